@@ -1,0 +1,1 @@
+//! 2D discrete-element engine for spheropolygons.

@@ -1,0 +1,33 @@
+//! One file per subcommand; each holds its clap arguments and a `run` that calls the library.
+
+mod bench;
+mod drop;
+
+use clap::{Parser, Subcommand};
+
+/// facets: granular deposits of faceted grains (square nuts, short and long rods) in a 2D silo.
+///
+/// Simulates silo fillings (DEM of spheropolygons), finds grains in photographs of deposits,
+/// and measures both with the same analysis.
+#[derive(Debug, Parser)]
+#[command(name = "facets", version, propagate_version = true)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Drop one grain onto a floor or a resting grain and report the collision.
+    Drop(drop::Args),
+    /// Benchmarks: engine throughput and the other measured speed goals.
+    #[command(subcommand)]
+    Bench(bench::Bench),
+}
+
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Drop(args) => drop::run(args),
+        Command::Bench(bench) => bench::run(bench),
+    }
+}

@@ -1,0 +1,5 @@
+//! File output shared by every command.
+
+mod atomic;
+
+pub use atomic::write_atomic;
