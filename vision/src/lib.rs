@@ -1,1 +1,9 @@
-//! Synthetic photographs and grain detection.
+//! Synthetic backlit photographs of grain deposits, and a detector that finds every grain.
+//!
+//! The crate knows photographs and grain outlines, nothing of how a deposit was made.
+//! Coordinates are SI (metres) in the frame: origin at the bottom-left corner of the
+//! photograph, y upward; image row 0 is the top (y = (rows - row - 0.5) / scale).
+
+mod grain;
+
+pub use grain::{Frame, GrainOutline, GrainShape};
