@@ -1,0 +1,206 @@
+use serde::{Deserialize, Serialize};
+use smallvec::SmallVec;
+
+use crate::dynamics::ContactLaw;
+use crate::math::{Vec2, cross, cross_scalar, perp};
+use crate::query::{Features, SubContact};
+
+/// The other body of a contact.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Body {
+    Grain(usize),
+    Wall(usize),
+}
+
+/// A sub-contact as it stood at the last force evaluation, with its tangential history.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SubContactState {
+    pub features: Features,
+    /// Accumulated tangential displacement xi (m), along perp(normal).
+    pub displacement: f64,
+    /// Unit normal from the second body to the first.
+    pub normal: Vec2,
+    pub point: Vec2,
+    pub overlap: f64,
+    pub normal_force: f64,
+    pub tangential_force: f64,
+}
+
+impl SubContactState {
+    /// Force on the first body.
+    pub fn force(&self) -> Vec2 {
+        self.normal * self.normal_force + perp(self.normal) * self.tangential_force
+    }
+}
+
+/// Everything between two bodies (a grain pair, or a grain and a wall): its sub-contacts and
+/// their summed force and torques.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PairContact {
+    pub subs: SmallVec<[SubContactState; 2]>,
+    /// Force on the first body (the second gets the opposite).
+    pub force: Vec2,
+    pub torque_first: f64,
+    pub torque_second: f64,
+}
+
+/// One sub-contact as seen from outside: who, where, how hard.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactRecord {
+    pub first: usize,
+    pub second: Body,
+    /// Force on the first body from the second (N).
+    pub force: Vec2,
+    pub point: Vec2,
+    pub overlap: f64,
+}
+
+/// Kinematics of one body as the contact law needs it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Kinematics {
+    pub position: Vec2,
+    pub velocity: Vec2,
+    pub angular_velocity: f64,
+    pub inverse_mass: f64,
+}
+
+impl Kinematics {
+    pub const STATIC: Self = Self {
+        position: Vec2::new(0.0, 0.0),
+        velocity: Vec2::new(0.0, 0.0),
+        angular_velocity: 0.0,
+        inverse_mass: 0.0,
+    };
+}
+
+impl PairContact {
+    pub fn clear(&mut self) {
+        self.subs.clear();
+        self.force = Vec2::zeros();
+        self.torque_first = 0.0;
+        self.torque_second = 0.0;
+    }
+
+    /// Features touching at the last evaluation (hints for deep vertices).
+    pub fn features(&self) -> SmallVec<[Features; 4]> {
+        self.subs.iter().map(|s| s.features).collect()
+    }
+
+    /// Applies the contact law to the sub-contacts found this step, carrying each one's
+    /// tangential history over from the last step when the same features touched.
+    pub(crate) fn resolve(
+        &mut self,
+        found: &[SubContact],
+        first: &Kinematics,
+        second: &Kinematics,
+        law: &ContactLaw,
+        dt: f64,
+    ) {
+        let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
+        let mut subs = SmallVec::new();
+        let (mut force, mut torque_first, mut torque_second) = (Vec2::zeros(), 0.0, 0.0);
+        for sc in found {
+            let history = self
+                .subs
+                .iter()
+                .find(|s| s.features == sc.features)
+                .map_or(0.0, |s| s.displacement);
+            let arm_first = sc.point - first.position;
+            let arm_second = sc.point - second.position;
+            let relative = first.velocity + cross_scalar(first.angular_velocity, arm_first)
+                - second.velocity
+                - cross_scalar(second.angular_velocity, arm_second);
+            let tangent = perp(sc.normal);
+            let f = law.force(
+                sc.overlap,
+                relative.dot(&sc.normal),
+                relative.dot(&tangent),
+                reduced_mass,
+                history,
+                dt,
+            );
+            let on_first = sc.normal * f.normal + tangent * f.tangential;
+            force += on_first;
+            torque_first += cross(arm_first, on_first);
+            torque_second -= cross(arm_second, on_first);
+            subs.push(SubContactState {
+                features: sc.features,
+                displacement: f.displacement,
+                normal: sc.normal,
+                point: sc.point,
+                overlap: sc.overlap,
+                normal_force: f.normal,
+                tangential_force: f.tangential,
+            });
+        }
+        self.subs = subs;
+        self.force = force;
+        self.torque_first = torque_first;
+        self.torque_second = torque_second;
+    }
+}
+
+/// Moves the histories of pairs that survive a Verlet rebuild to their new slots; both pair
+/// lists are sorted.
+pub(crate) fn carry_over<K: Ord + Copy>(
+    old_keys: &[K],
+    old: &mut [PairContact],
+    new_keys: &[K],
+) -> Vec<PairContact> {
+    let mut carried = Vec::with_capacity(new_keys.len());
+    let mut k = 0;
+    for key in new_keys {
+        while k < old_keys.len() && old_keys[k] < *key {
+            k += 1;
+        }
+        if k < old_keys.len() && old_keys[k] == *key {
+            carried.push(std::mem::take(&mut old[k]));
+        } else {
+            carried.push(PairContact::default());
+        }
+    }
+    carried
+}
+
+/// For each grain, the contacts it takes part in, in a fixed order, so forces are summed the
+/// same way whatever the thread count.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Incidence {
+    start: Vec<u32>,
+    /// (contact index, true when the grain is the first body).
+    entries: Vec<(u32, bool)>,
+}
+
+impl Incidence {
+    /// `pairs` of grains, or with `second_is_grain` false, (grain, wall) pairs.
+    pub fn build(grains: usize, pairs: &[[u32; 2]], second_is_grain: bool) -> Self {
+        let mut count = vec![0u32; grains + 1];
+        for [i, j] in pairs {
+            count[*i as usize + 1] += 1;
+            if second_is_grain {
+                count[*j as usize + 1] += 1;
+            }
+        }
+        for g in 0..grains {
+            count[g + 1] += count[g];
+        }
+        let mut fill = count.clone();
+        let mut entries = vec![(0, false); count[grains] as usize];
+        for (k, [i, j]) in pairs.iter().enumerate() {
+            let sides = if second_is_grain { 2 } else { 1 };
+            for &(g, first) in [(*i, true), (*j, false)].iter().take(sides) {
+                let slot = &mut fill[g as usize];
+                entries[*slot as usize] = (k as u32, first);
+                *slot += 1;
+            }
+        }
+        Self {
+            start: count,
+            entries,
+        }
+    }
+
+    pub fn of(&self, grain: usize) -> &[(u32, bool)] {
+        &self.entries[self.start[grain] as usize..self.start[grain + 1] as usize]
+    }
+}

@@ -1,0 +1,12 @@
+//! The simulation loop: a [`World`] of grains and walls, advanced by [`World::step`].
+
+mod contacts;
+mod energy;
+mod step;
+mod time_step;
+mod world;
+
+pub use contacts::{Body, ContactRecord, PairContact, SubContactState};
+pub use energy::Energies;
+pub use time_step::{collision_time, critical_time_step};
+pub use world::{GrainId, GrainState, ShapeId, World, WorldSettings};

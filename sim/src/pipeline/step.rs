@@ -1,0 +1,269 @@
+use rayon::prelude::*;
+use smallvec::SmallVec;
+
+use super::contacts::{Incidence, Kinematics, PairContact, carry_over};
+use super::world::World;
+use crate::error::SimError;
+use crate::math::{Vec2, rotate};
+use crate::query::{PlacedCore, SubContact, core_core_sub_contacts, core_wall_sub_contacts};
+
+impl World {
+    /// Advances the world by one time step (velocity Verlet; the contact damping sees the
+    /// half-step velocities):
+    /// 1. half kick and drift, 2. broad phase, 3. narrow phase and contact forces,
+    /// 4. second half kick.
+    ///
+    /// Every stage is a parallel map over grains or pairs whose results do not depend on how
+    /// the work is split, and forces are gathered per grain in a fixed order: the outcome is
+    /// bit-identical whatever the number of threads.
+    pub fn step(&mut self) -> Result<(), SimError> {
+        if !self.dt.is_finite() {
+            return Err(SimError::BadParameter {
+                field: "time_step",
+                value: self.dt,
+                expected: "no grain shape was added, so there is no time step",
+            });
+        }
+        if !self.forces_ready {
+            self.update_neighbours()?;
+            self.place_cores();
+            self.compute_forces();
+            self.forces_ready = true;
+        }
+        let dt = self.dt;
+        self.kick(dt / 2.0, dt);
+        self.update_neighbours()?;
+        self.place_cores();
+        self.compute_forces();
+        self.kick(dt / 2.0, 0.0);
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Runs `steps` steps.
+    pub fn run(&mut self, steps: u64) -> Result<(), SimError> {
+        for _ in 0..steps {
+            self.step()?;
+        }
+        Ok(())
+    }
+
+    /// v += a * kick; then x += v * drift.
+    fn kick(&mut self, kick: f64, drift: f64) {
+        let g = &mut self.grains;
+        (
+            &mut g.position,
+            &mut g.angle,
+            &mut g.velocity,
+            &mut g.angular_velocity,
+        )
+            .into_par_iter()
+            .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
+            .for_each(|((x, theta, v, w), (f, t, im, ii))| {
+                *v += f * (im * kick);
+                *w += t * ii * kick;
+                *x += *v * drift;
+                *theta += *w * drift;
+            });
+    }
+
+    fn update_neighbours(&mut self) -> Result<(), SimError> {
+        if !self.verlet.is_stale(&self.grains.position, self.skin) {
+            return Ok(());
+        }
+        let g = &self.grains;
+        if let Some(i) = (0..g.len()).find(|&i| {
+            !(g.position[i].x.is_finite()
+                && g.position[i].y.is_finite()
+                && g.velocity[i].x.is_finite()
+                && g.velocity[i].y.is_finite()
+                && g.angle[i].is_finite()
+                && g.angular_velocity[i].is_finite())
+        }) {
+            return Err(SimError::Diverged {
+                grain: i,
+                time: self.time,
+            });
+        }
+        let old_pairs = std::mem::take(&mut self.verlet.pairs);
+        let old_wall_pairs = std::mem::take(&mut self.verlet.wall_pairs);
+        self.verlet.rebuild(
+            &g.position,
+            &self.reach,
+            &self.mobile,
+            &self.walls,
+            self.skin,
+        );
+        self.pair_contacts = carry_over(&old_pairs, &mut self.pair_contacts, &self.verlet.pairs);
+        self.wall_contacts = carry_over(
+            &old_wall_pairs,
+            &mut self.wall_contacts,
+            &self.verlet.wall_pairs,
+        );
+        self.pair_incidence = Incidence::build(g.len(), &self.verlet.pairs, true);
+        self.wall_incidence = Incidence::build(g.len(), &self.verlet.wall_pairs, false);
+        Ok(())
+    }
+
+    /// World-frame vertices and edge directions of every core.
+    fn place_cores(&mut self) {
+        let shapes = &self.shapes;
+        let g = &self.grains;
+        let start = &self.vertex_start;
+        // Split the flat arrays into one slice per grain, then fill each in parallel.
+        let mut vertex_slices = Vec::with_capacity(g.len());
+        let mut direction_slices = Vec::with_capacity(g.len());
+        let (mut vs, mut ds) = (
+            &mut self.placed_vertices[..],
+            &mut self.placed_directions[..],
+        );
+        for i in 0..g.len() {
+            let n = (start[i + 1] - start[i]) as usize;
+            let (v, rest_v) = vs.split_at_mut(n);
+            let (d, rest_d) = ds.split_at_mut(n);
+            vertex_slices.push(v);
+            direction_slices.push(d);
+            vs = rest_v;
+            ds = rest_d;
+        }
+        vertex_slices
+            .into_par_iter()
+            .zip(direction_slices)
+            .enumerate()
+            .for_each(|(i, (vertices, directions))| {
+                let shape = &shapes[g.shape[i] as usize].shape;
+                let (sin, cos) = g.angle[i].sin_cos();
+                let x = g.position[i];
+                for (k, v) in shape.vertices().iter().enumerate() {
+                    vertices[k] = x + rotate(*v, cos, sin);
+                    directions[k] = rotate(shape.edge_directions()[k], cos, sin);
+                }
+            });
+    }
+
+    fn placed(&self, i: usize) -> PlacedCore<'_> {
+        let (a, b) = (
+            self.vertex_start[i] as usize,
+            self.vertex_start[i + 1] as usize,
+        );
+        let shape = &self.shapes[self.grains.shape[i] as usize].shape;
+        PlacedCore {
+            vertices: &self.placed_vertices[a..b],
+            directions: &self.placed_directions[a..b],
+            lengths: shape.edge_lengths(),
+            radius: shape.radius(),
+        }
+    }
+
+    fn kinematics(&self, i: usize) -> Kinematics {
+        let g = &self.grains;
+        Kinematics {
+            position: g.position[i],
+            velocity: g.velocity[i],
+            angular_velocity: g.angular_velocity[i],
+            inverse_mass: g.inverse_mass[i],
+        }
+    }
+
+    /// Narrow phase and contact law for every pair and wall contact, then the sum per grain.
+    fn compute_forces(&mut self) {
+        let mut pair_contacts = std::mem::take(&mut self.pair_contacts);
+        let mut wall_contacts = std::mem::take(&mut self.wall_contacts);
+        {
+            let this = &*self;
+            pair_contacts
+                .par_iter_mut()
+                .zip(&this.verlet.pairs)
+                .for_each(|(contact, &[i, j])| {
+                    let (i, j) = (i as usize, j as usize);
+                    let reach = this.reach[i] + this.reach[j];
+                    let g = &this.grains;
+                    if (g.position[i] - g.position[j]).norm_squared() >= reach * reach {
+                        contact.clear();
+                        return;
+                    }
+                    let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                    core_core_sub_contacts(
+                        &this.placed(i),
+                        &this.placed(j),
+                        &contact.features(),
+                        &mut found,
+                    );
+                    resolve(
+                        contact,
+                        &found,
+                        &this.kinematics(i),
+                        &this.kinematics(j),
+                        this,
+                    );
+                });
+            wall_contacts
+                .par_iter_mut()
+                .zip(&this.verlet.wall_pairs)
+                .for_each(|(contact, &[i, k])| {
+                    let (i, k) = (i as usize, k as usize);
+                    let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                    core_wall_sub_contacts(&this.placed(i), &this.walls[k], &mut found);
+                    resolve(
+                        contact,
+                        &found,
+                        &this.kinematics(i),
+                        &Kinematics::STATIC,
+                        this,
+                    );
+                });
+        }
+        let gravity = self.settings.gravity;
+        let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
+        let crate::dynamics::Grains {
+            force,
+            torque,
+            mass,
+            ..
+        } = &mut self.grains;
+        (force, torque)
+            .into_par_iter()
+            .enumerate()
+            .for_each(|(i, (force, torque))| {
+                let mut f = Vec2::zeros();
+                let mut t = 0.0;
+                if mobile[i] {
+                    f = gravity * mass[i];
+                    for &(k, first) in pairs.of(i) {
+                        let c = &pair_contacts[k as usize];
+                        if first {
+                            f += c.force;
+                            t += c.torque_first;
+                        } else {
+                            f -= c.force;
+                            t += c.torque_second;
+                        }
+                    }
+                    for &(k, _) in walls.of(i) {
+                        let c = &wall_contacts[k as usize];
+                        f += c.force;
+                        t += c.torque_first;
+                    }
+                }
+                *force = f;
+                *torque = t;
+            });
+        self.pair_contacts = pair_contacts;
+        self.wall_contacts = wall_contacts;
+    }
+}
+
+fn resolve(
+    contact: &mut PairContact,
+    found: &[SubContact],
+    first: &Kinematics,
+    second: &Kinematics,
+    world: &World,
+) {
+    if found.is_empty() {
+        contact.clear();
+    } else {
+        contact.resolve(found, first, second, &world.settings.law, world.dt);
+    }
+}

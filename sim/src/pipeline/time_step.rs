@@ -1,0 +1,30 @@
+use std::f64::consts::PI;
+
+use crate::dynamics::ContactLaw;
+
+/// Stability bound of the velocity-Verlet step for the stiffest contact on the lightest grain.
+///
+/// The stiffest contact is face on face: two sub-contacts in parallel. Each presses on an
+/// effective mass 1 / (1/m + rho^2/I) per grain, rho the grain's reach (a sub-contact at the
+/// tip of the outline also turns the grain), and both grains move. For a damped oscillator of
+/// angular frequency omega and damping ratio zeta the explicit central-difference scheme is
+/// stable for dt < 2 (sqrt(1 + zeta^2) - zeta) / omega.
+pub fn critical_time_step(law: &ContactLaw, mass: f64, inertia: f64, reach: f64) -> f64 {
+    let inverse_mass = 2.0 * (1.0 / mass + reach * reach / inertia);
+    let omega = (2.0 * law.normal_stiffness * inverse_mass).sqrt();
+    let zeta = law.normal_damping / omega;
+    2.0 * ((1.0 + zeta * zeta).sqrt() - zeta) / omega
+}
+
+/// Duration of a binary collision through one sub-contact (linear spring-dashpot).
+pub fn collision_time(law: &ContactLaw, reduced_mass: f64) -> f64 {
+    let omega0_sq = law.normal_stiffness / reduced_mass;
+    let beta = law.normal_damping / 2.0;
+    PI / (omega0_sq - beta * beta).max(f64::MIN_POSITIVE).sqrt()
+}
+
+/// The default step: a fiftieth of the collision of two of the lightest grains, which resolves
+/// the collision well (restitution within 1 % of the exact value, see the collision tests).
+pub fn default_time_step(law: &ContactLaw, lightest_mass: f64) -> f64 {
+    collision_time(law, lightest_mass / 2.0) / 50.0
+}

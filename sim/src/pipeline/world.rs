@@ -1,0 +1,385 @@
+use serde::{Deserialize, Serialize};
+
+use super::contacts::{Body, ContactRecord, Incidence, PairContact};
+use super::energy::Energies;
+use super::time_step::{critical_time_step, default_time_step};
+use crate::broad_phase::VerletList;
+use crate::dynamics::{ContactLaw, Grains, Wall};
+use crate::error::SimError;
+use crate::math::Vec2;
+use crate::shape::Spheropolygon;
+
+/// Engine settings that hold for a whole run.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WorldSettings {
+    pub law: ContactLaw,
+    /// Acceleration of gravity (m/s^2).
+    pub gravity: Vec2,
+    /// Time step (s). `None`: a fiftieth of the binary collision of the lightest grains.
+    pub time_step: Option<f64>,
+    /// Verlet skin as a fraction of the smallest grain's bounding radius.
+    pub skin_fraction: f64,
+}
+
+impl Default for WorldSettings {
+    fn default() -> Self {
+        Self {
+            law: ContactLaw::default(),
+            gravity: Vec2::new(0.0, -10.0),
+            time_step: None,
+            skin_fraction: 0.2,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct ShapeId(pub usize);
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub struct GrainId(pub usize);
+
+/// Position and velocity of one grain.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GrainState {
+    pub position: Vec2,
+    pub angle: f64,
+    pub velocity: Vec2,
+    pub angular_velocity: f64,
+}
+
+impl GrainState {
+    pub fn at_rest(position: Vec2, angle: f64) -> Self {
+        Self {
+            position,
+            angle,
+            velocity: Vec2::zeros(),
+            angular_velocity: 0.0,
+        }
+    }
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(crate) struct ShapeEntry {
+    pub shape: Spheropolygon,
+    pub mass: f64,
+    pub inertia: f64,
+}
+
+/// Grains, walls and the contacts between them, advanced in time by [`World::step`].
+#[derive(Clone, Debug)]
+pub struct World {
+    pub(crate) settings: WorldSettings,
+    pub(crate) shapes: Vec<ShapeEntry>,
+    pub(crate) grains: Grains,
+    pub(crate) walls: Vec<Wall>,
+    pub(crate) dt: f64,
+    pub(crate) time: f64,
+    pub(crate) steps: u64,
+    /// First placed vertex of each grain (one more entry than grains).
+    pub(crate) vertex_start: Vec<u32>,
+    pub(crate) placed_vertices: Vec<Vec2>,
+    pub(crate) placed_directions: Vec<Vec2>,
+    pub(crate) reach: Vec<f64>,
+    pub(crate) mobile: Vec<bool>,
+    pub(crate) skin: f64,
+    pub(crate) verlet: VerletList,
+    pub(crate) pair_contacts: Vec<PairContact>,
+    pub(crate) wall_contacts: Vec<PairContact>,
+    pub(crate) pair_incidence: Incidence,
+    pub(crate) wall_incidence: Incidence,
+    pub(crate) forces_ready: bool,
+}
+
+impl World {
+    pub fn new(settings: WorldSettings) -> Result<Self, SimError> {
+        settings.law.validate()?;
+        for (field, value) in [
+            ("gravity", settings.gravity.x),
+            ("gravity", settings.gravity.y),
+        ] {
+            if !value.is_finite() {
+                return Err(SimError::BadParameter {
+                    field,
+                    value,
+                    expected: "expected finite components (m/s^2)",
+                });
+            }
+        }
+        if let Some(dt) = settings.time_step {
+            if !(dt.is_finite() && dt > 0.0) {
+                return Err(SimError::BadParameter {
+                    field: "time_step",
+                    value: dt,
+                    expected: "expected a positive time step in seconds",
+                });
+            }
+        }
+        if !(settings.skin_fraction.is_finite() && settings.skin_fraction > 0.0) {
+            return Err(SimError::BadParameter {
+                field: "skin_fraction",
+                value: settings.skin_fraction,
+                expected: "expected a positive fraction of the grain's reach",
+            });
+        }
+        Ok(Self {
+            settings,
+            shapes: Vec::new(),
+            grains: Grains::default(),
+            walls: Vec::new(),
+            dt: settings.time_step.unwrap_or(f64::INFINITY),
+            time: 0.0,
+            steps: 0,
+            vertex_start: vec![0],
+            placed_vertices: Vec::new(),
+            placed_directions: Vec::new(),
+            reach: Vec::new(),
+            mobile: Vec::new(),
+            skin: f64::INFINITY,
+            verlet: VerletList::default(),
+            pair_contacts: Vec::new(),
+            wall_contacts: Vec::new(),
+            pair_incidence: Incidence::default(),
+            wall_incidence: Incidence::default(),
+            forces_ready: false,
+        })
+    }
+
+    /// Registers a grain outline with its areal density (kg/m^2). Refuses a set time step
+    /// above the stability bound of this grain.
+    pub fn add_shape(
+        &mut self,
+        shape: Spheropolygon,
+        areal_density: f64,
+    ) -> Result<ShapeId, SimError> {
+        let (mass, inertia) = shape.mass_properties(areal_density)?;
+        let critical =
+            critical_time_step(&self.settings.law, mass, inertia, shape.bounding_radius());
+        match self.settings.time_step {
+            Some(dt) if dt > critical => return Err(SimError::TimeStepTooLarge { dt, critical }),
+            Some(_) => {}
+            None => self.dt = self.dt.min(default_time_step(&self.settings.law, mass)),
+        }
+        self.skin = self
+            .skin
+            .min(self.settings.skin_fraction * shape.bounding_radius());
+        self.shapes.push(ShapeEntry {
+            shape,
+            mass,
+            inertia,
+        });
+        Ok(ShapeId(self.shapes.len() - 1))
+    }
+
+    /// Adds a mobile grain; its force starts as its weight until the next step finds contacts.
+    pub fn add_grain(&mut self, shape: ShapeId, state: GrainState) -> Result<GrainId, SimError> {
+        self.push_grain(shape, state, true)
+    }
+
+    /// Adds a grain that never moves (walls built of grains, obstacles).
+    pub fn add_fixed_grain(
+        &mut self,
+        shape: ShapeId,
+        position: Vec2,
+        angle: f64,
+    ) -> Result<GrainId, SimError> {
+        self.push_grain(shape, GrainState::at_rest(position, angle), false)
+    }
+
+    fn push_grain(
+        &mut self,
+        shape: ShapeId,
+        state: GrainState,
+        mobile: bool,
+    ) -> Result<GrainId, SimError> {
+        let entry = self
+            .shapes
+            .get(shape.0)
+            .ok_or(SimError::UnknownShape(shape.0))?;
+        let values = [
+            ("position", state.position.x),
+            ("position", state.position.y),
+            ("angle", state.angle),
+            ("velocity", state.velocity.x),
+            ("velocity", state.velocity.y),
+            ("angular_velocity", state.angular_velocity),
+        ];
+        for (field, value) in values {
+            if !value.is_finite() {
+                return Err(SimError::BadParameter {
+                    field,
+                    value,
+                    expected: "expected a finite number",
+                });
+            }
+        }
+        let g = &mut self.grains;
+        g.shape.push(shape.0 as u32);
+        g.position.push(state.position);
+        g.angle.push(state.angle);
+        g.mass.push(entry.mass);
+        g.inertia.push(entry.inertia);
+        if mobile {
+            g.velocity.push(state.velocity);
+            g.angular_velocity.push(state.angular_velocity);
+            g.inverse_mass.push(1.0 / entry.mass);
+            g.inverse_inertia.push(1.0 / entry.inertia);
+            g.force.push(self.settings.gravity * entry.mass);
+        } else {
+            g.velocity.push(Vec2::zeros());
+            g.angular_velocity.push(0.0);
+            g.inverse_mass.push(0.0);
+            g.inverse_inertia.push(0.0);
+            g.force.push(Vec2::zeros());
+        }
+        g.torque.push(0.0);
+        let n = entry.shape.vertices().len() as u32;
+        self.vertex_start
+            .push(self.vertex_start.last().unwrap() + n);
+        self.placed_vertices
+            .extend(std::iter::repeat_n(Vec2::zeros(), n as usize));
+        self.placed_directions
+            .extend(std::iter::repeat_n(Vec2::zeros(), n as usize));
+        self.reach.push(entry.shape.bounding_radius());
+        self.mobile.push(mobile);
+        Ok(GrainId(self.grains.len() - 1))
+    }
+
+    pub fn add_wall(&mut self, wall: Wall) -> Result<usize, SimError> {
+        let values = [wall.point.x, wall.point.y, wall.normal.x, wall.normal.y];
+        if values.iter().any(|v| !v.is_finite()) || wall.normal.norm() == 0.0 {
+            return Err(SimError::BadParameter {
+                field: "wall",
+                value: f64::NAN,
+                expected: "expected a finite point and a non-zero normal",
+            });
+        }
+        self.walls.push(wall);
+        // Force the Verlet list to pick the new wall up.
+        self.verlet = VerletList::default();
+        Ok(self.walls.len() - 1)
+    }
+
+    pub fn settings(&self) -> &WorldSettings {
+        &self.settings
+    }
+
+    pub fn set_gravity(&mut self, gravity: Vec2) {
+        self.settings.gravity = gravity;
+    }
+
+    pub fn time_step(&self) -> f64 {
+        self.dt
+    }
+
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    pub fn steps(&self) -> u64 {
+        self.steps
+    }
+
+    pub fn verlet_rebuilds(&self) -> u64 {
+        self.verlet.rebuilds
+    }
+
+    pub fn len(&self) -> usize {
+        self.grains.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.grains.is_empty()
+    }
+
+    pub fn grains(&self) -> &Grains {
+        &self.grains
+    }
+
+    pub fn walls(&self) -> &[Wall] {
+        &self.walls
+    }
+
+    pub fn shape(&self, id: ShapeId) -> &Spheropolygon {
+        &self.shapes[id.0].shape
+    }
+
+    pub fn shape_of(&self, grain: usize) -> ShapeId {
+        ShapeId(self.grains.shape[grain] as usize)
+    }
+
+    pub fn grain(&self, i: usize) -> GrainState {
+        let g = &self.grains;
+        GrainState {
+            position: g.position[i],
+            angle: g.angle[i],
+            velocity: g.velocity[i],
+            angular_velocity: g.angular_velocity[i],
+        }
+    }
+
+    /// Sets a grain's position and velocity (e.g. to place a grain at rest by hand).
+    pub fn set_grain(&mut self, i: usize, state: GrainState) {
+        let g = &mut self.grains;
+        g.position[i] = state.position;
+        g.angle[i] = state.angle;
+        if self.mobile[i] {
+            g.velocity[i] = state.velocity;
+            g.angular_velocity[i] = state.angular_velocity;
+        }
+    }
+
+    /// Every sub-contact at the last force evaluation.
+    pub fn contacts(&self) -> impl Iterator<Item = ContactRecord> + '_ {
+        let pairs = self
+            .verlet
+            .pairs
+            .iter()
+            .zip(&self.pair_contacts)
+            .map(|(p, c)| (p[0] as usize, Body::Grain(p[1] as usize), c));
+        let walls = self
+            .verlet
+            .wall_pairs
+            .iter()
+            .zip(&self.wall_contacts)
+            .map(|(p, c)| (p[0] as usize, Body::Wall(p[1] as usize), c));
+        pairs.chain(walls).flat_map(|(first, second, c)| {
+            c.subs.iter().map(move |s| ContactRecord {
+                first,
+                second,
+                force: s.force(),
+                point: s.point,
+                overlap: s.overlap,
+            })
+        })
+    }
+
+    /// Total force the grains exert on wall `k`.
+    pub fn wall_load(&self, k: usize) -> Vec2 {
+        self.verlet
+            .wall_pairs
+            .iter()
+            .zip(&self.wall_contacts)
+            .filter(|(p, _)| p[1] as usize == k)
+            .map(|(_, c)| -c.force)
+            .sum()
+    }
+
+    pub fn energies(&self) -> Energies {
+        let g = &self.grains;
+        let mut e = Energies::default();
+        for i in 0..g.len() {
+            if self.mobile[i] {
+                e.kinetic += 0.5 * g.mass[i] * g.velocity[i].norm_squared()
+                    + 0.5 * g.inertia[i] * g.angular_velocity[i].powi(2);
+                e.potential -= g.mass[i] * self.settings.gravity.dot(&g.position[i]);
+            }
+        }
+        let law = &self.settings.law;
+        for c in self.pair_contacts.iter().chain(&self.wall_contacts) {
+            for s in &c.subs {
+                e.elastic += law.elastic_energy(s.overlap, s.displacement);
+            }
+        }
+        e
+    }
+}

@@ -1,0 +1,22 @@
+use smallvec::SmallVec;
+
+use super::{Features, PlacedCore, SubContact};
+use crate::dynamics::Wall;
+
+/// Sub-contacts of a placed core against a flat wall: one per vertex closer to the wall than
+/// the rounding radius. A wall is one-sided, so a vertex that has crossed it is still pushed
+/// back along the wall's normal, however deep.
+pub fn core_wall_sub_contacts(core: &PlacedCore, wall: &Wall, out: &mut SmallVec<[SubContact; 4]>) {
+    let r = core.radius;
+    for (k, p) in core.vertices.iter().enumerate() {
+        let s = (p - wall.point).dot(&wall.normal);
+        if s < r {
+            out.push(SubContact {
+                features: Features::VertexWall { vertex: k as u8 },
+                normal: wall.normal,
+                overlap: r - s,
+                point: p - wall.normal * ((r + s) / 2.0),
+            });
+        }
+    }
+}

@@ -1,0 +1,11 @@
+//! Narrow phase: the sub-contacts between two placed cores, or a core and a wall (SPEC §2).
+
+mod core_core;
+mod core_wall;
+mod placed_core;
+mod sub_contact;
+
+pub use core_core::core_core_sub_contacts;
+pub use core_wall::core_wall_sub_contacts;
+pub use placed_core::PlacedCore;
+pub use sub_contact::{Features, SubContact};
