@@ -19,5 +19,8 @@ pub mod shape;
 pub use dynamics::{ContactLaw, Wall};
 pub use error::{ShapeError, SimError};
 pub use math::Vec2;
-pub use pipeline::{GrainId, GrainState, ShapeId, World, WorldSettings, critical_time_step};
+pub use pipeline::{
+    Body, ContactRecord, Energies, GrainId, GrainState, ShapeId, World, WorldSettings,
+    collision_time, critical_time_step,
+};
 pub use shape::Spheropolygon;

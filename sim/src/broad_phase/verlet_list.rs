@@ -24,10 +24,10 @@ impl VerletList {
             return true;
         }
         let limit = (skin / 2.0).powi(2);
-        positions
-            .par_iter()
-            .zip(&self.reference)
-            .any(|(p, r)| !((p - r).norm_squared() <= limit))
+        positions.par_iter().zip(&self.reference).any(|(p, r)| {
+            let d = (p - r).norm_squared();
+            d > limit || d.is_nan()
+        })
     }
 
     /// Rebuilds from scratch. `reach[i]` is grain i's bounding radius; `mobile[i]` is false for

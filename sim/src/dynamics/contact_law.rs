@@ -150,15 +150,17 @@ mod tests {
 
     #[test]
     fn bad_parameters_name_the_field() {
-        let mut law = ContactLaw::default();
-        law.friction = -0.1;
+        let law = ContactLaw {
+            friction: -0.1,
+            ..ContactLaw::default()
+        };
         assert!(
             law.validate()
                 .unwrap_err()
                 .to_string()
                 .contains("`friction`")
         );
-        law = ContactLaw {
+        let law = ContactLaw {
             normal_stiffness: f64::NAN,
             ..ContactLaw::default()
         };

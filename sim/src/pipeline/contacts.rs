@@ -6,7 +6,7 @@ use crate::math::{Vec2, cross, cross_scalar, perp};
 use crate::query::{Features, SubContact};
 
 /// The other body of a contact.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum Body {
     Grain(usize),
     Wall(usize),
@@ -42,6 +42,9 @@ pub struct PairContact {
     pub force: Vec2,
     pub torque_first: f64,
     pub torque_second: f64,
+    /// Elastic energy this pair's sub-contacts brought in by appearing, less what they took
+    /// away by vanishing, since the pair was created (J). See [`super::Energies::switching`].
+    pub switched: f64,
 }
 
 /// One sub-contact as seen from outside: who, where, how hard.
@@ -52,7 +55,11 @@ pub struct ContactRecord {
     /// Force on the first body from the second (N).
     pub force: Vec2,
     pub point: Vec2,
+    /// Unit normal from the second body to the first.
+    pub normal: Vec2,
     pub overlap: f64,
+    /// Tangential spring displacement xi (m).
+    pub displacement: f64,
 }
 
 /// Kinematics of one body as the contact law needs it.
@@ -74,7 +81,11 @@ impl Kinematics {
 }
 
 impl PairContact {
-    pub fn clear(&mut self) {
+    /// Drops every sub-contact; `would_be_overlap` gives the overlap each would have now.
+    pub(crate) fn clear(&mut self, law: &ContactLaw, would_be_overlap: impl Fn(Features) -> f64) {
+        for old in &self.subs {
+            self.switched -= law.elastic_energy(would_be_overlap(old.features), old.displacement);
+        }
         self.subs.clear();
         self.force = Vec2::zeros();
         self.torque_first = 0.0;
@@ -95,7 +106,14 @@ impl PairContact {
         second: &Kinematics,
         law: &ContactLaw,
         dt: f64,
+        would_be_overlap: impl Fn(Features) -> f64,
     ) {
+        for old in &self.subs {
+            if !found.iter().any(|f| f.features == old.features) {
+                self.switched -=
+                    law.elastic_energy(would_be_overlap(old.features), old.displacement);
+            }
+        }
         let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
         let mut subs = SmallVec::new();
         let (mut force, mut torque_first, mut torque_second) = (Vec2::zeros(), 0.0, 0.0);
@@ -104,19 +122,25 @@ impl PairContact {
                 .subs
                 .iter()
                 .find(|s| s.features == sc.features)
-                .map_or(0.0, |s| s.displacement);
+                .map(|s| s.displacement);
             let arm_first = sc.point - first.position;
             let arm_second = sc.point - second.position;
             let relative = first.velocity + cross_scalar(first.angular_velocity, arm_first)
                 - second.velocity
                 - cross_scalar(second.angular_velocity, arm_second);
             let tangent = perp(sc.normal);
+            let normal_velocity = relative.dot(&sc.normal);
+            // A sub-contact that was already overlapping a step ago was switched in by the
+            // feature rules, not by the grains coming into touch.
+            if history.is_none() && sc.overlap + normal_velocity * dt > 0.0 {
+                self.switched += law.elastic_energy(sc.overlap, 0.0);
+            }
             let f = law.force(
                 sc.overlap,
-                relative.dot(&sc.normal),
+                normal_velocity,
                 relative.dot(&tangent),
                 reduced_mass,
-                history,
+                history.unwrap_or(0.0),
                 dt,
             );
             let on_first = sc.normal * f.normal + tangent * f.tangential;
@@ -160,6 +184,20 @@ pub(crate) fn carry_over<K: Ord + Copy>(
         }
     }
     carried
+}
+
+/// Switching energy of the pairs a rebuild drops.
+pub(crate) fn dropped_switching<K: Ord + Copy>(
+    old_keys: &[K],
+    old: &[PairContact],
+    new_keys: &[K],
+) -> f64 {
+    old_keys
+        .iter()
+        .zip(old)
+        .filter(|(k, _)| new_keys.binary_search(k).is_err())
+        .map(|(_, c)| c.switched)
+        .sum()
 }
 
 /// For each grain, the contacts it takes part in, in a fixed order, so forces are summed the

@@ -7,6 +7,13 @@ pub struct Energies {
     pub potential: f64,
     /// Elastic energy stored in the normal and tangential springs of the sub-contacts.
     pub elastic: f64,
+    /// Elastic energy that entered the account when sub-contacts appeared, less what left it
+    /// when they vanished, evaluated at the configuration of the switch. A contact that opens
+    /// and closes at zero overlap contributes nothing. The sub-contact model of SPEC §2 switches
+    /// at finite overlap when the shared stretch of a face-on-face contact shrinks to a
+    /// corner-on-corner contact (two sub-contacts become one), so `total - switching` is what
+    /// the integrator conserves in an undamped, frictionless system.
+    pub switching: f64,
 }
 
 impl Energies {

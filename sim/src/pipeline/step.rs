@@ -1,11 +1,14 @@
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-use super::contacts::{Incidence, Kinematics, PairContact, carry_over};
+use super::contacts::{Incidence, Kinematics, PairContact, carry_over, dropped_switching};
 use super::world::World;
 use crate::error::SimError;
 use crate::math::{Vec2, rotate};
-use crate::query::{PlacedCore, SubContact, core_core_sub_contacts, core_wall_sub_contacts};
+use crate::query::{
+    Features, PlacedCore, SubContact, core_core_sub_contacts, core_wall_sub_contacts,
+    feature_overlap, wall_feature_overlap,
+};
 
 impl World {
     /// Advances the world by one time step (velocity Verlet; the contact damping sees the
@@ -17,6 +20,21 @@ impl World {
     /// the work is split, and forces are gathered per grain in a fixed order: the outcome is
     /// bit-identical whatever the number of threads.
     pub fn step(&mut self) -> Result<(), SimError> {
+        self.prime()?;
+        let dt = self.dt;
+        self.kick(dt / 2.0, dt);
+        self.update_neighbours()?;
+        self.place_cores();
+        self.compute_forces();
+        self.kick(dt / 2.0, 0.0);
+        self.time += dt;
+        self.steps += 1;
+        Ok(())
+    }
+
+    /// Evaluates contacts and forces at the current state, once, before the first step (the
+    /// step does it by itself; call it to read contacts before stepping).
+    pub fn prime(&mut self) -> Result<(), SimError> {
         if !self.dt.is_finite() {
             return Err(SimError::BadParameter {
                 field: "time_step",
@@ -30,14 +48,6 @@ impl World {
             self.compute_forces();
             self.forces_ready = true;
         }
-        let dt = self.dt;
-        self.kick(dt / 2.0, dt);
-        self.update_neighbours()?;
-        self.place_cores();
-        self.compute_forces();
-        self.kick(dt / 2.0, 0.0);
-        self.time += dt;
-        self.steps += 1;
         Ok(())
     }
 
@@ -95,6 +105,13 @@ impl World {
             &self.walls,
             self.skin,
         );
+        self.switching_dropped +=
+            dropped_switching(&old_pairs, &self.pair_contacts, &self.verlet.pairs)
+                + dropped_switching(
+                    &old_wall_pairs,
+                    &self.wall_contacts,
+                    &self.verlet.wall_pairs,
+                );
         self.pair_contacts = carry_over(&old_pairs, &mut self.pair_contacts, &self.verlet.pairs);
         self.wall_contacts = carry_over(
             &old_wall_pairs,
@@ -177,41 +194,31 @@ impl World {
                 .zip(&this.verlet.pairs)
                 .for_each(|(contact, &[i, j])| {
                     let (i, j) = (i as usize, j as usize);
+                    let (first, second) = (this.placed(i), this.placed(j));
+                    let would_be = |f: Features| feature_overlap(&first, &second, f);
                     let reach = this.reach[i] + this.reach[j];
                     let g = &this.grains;
                     if (g.position[i] - g.position[j]).norm_squared() >= reach * reach {
-                        contact.clear();
+                        contact.clear(&this.settings.law, would_be);
                         return;
                     }
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                    core_core_sub_contacts(
-                        &this.placed(i),
-                        &this.placed(j),
-                        &contact.features(),
-                        &mut found,
-                    );
-                    resolve(
-                        contact,
-                        &found,
-                        &this.kinematics(i),
-                        &this.kinematics(j),
-                        this,
-                    );
+                    core_core_sub_contacts(&first, &second, &contact.features(), &mut found);
+                    let kinematics = (this.kinematics(i), this.kinematics(j));
+                    resolve(contact, &found, kinematics, this, would_be);
                 });
             wall_contacts
                 .par_iter_mut()
                 .zip(&this.verlet.wall_pairs)
                 .for_each(|(contact, &[i, k])| {
                     let (i, k) = (i as usize, k as usize);
+                    let (core, wall) = (this.placed(i), &this.walls[k]);
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                    core_wall_sub_contacts(&this.placed(i), &this.walls[k], &mut found);
-                    resolve(
-                        contact,
-                        &found,
-                        &this.kinematics(i),
-                        &Kinematics::STATIC,
-                        this,
-                    );
+                    core_wall_sub_contacts(&core, wall, &mut found);
+                    let kinematics = (this.kinematics(i), Kinematics::STATIC);
+                    resolve(contact, &found, kinematics, this, |f| {
+                        wall_feature_overlap(&core, wall, f)
+                    });
                 });
         }
         let gravity = self.settings.gravity;
@@ -257,13 +264,14 @@ impl World {
 fn resolve(
     contact: &mut PairContact,
     found: &[SubContact],
-    first: &Kinematics,
-    second: &Kinematics,
+    (first, second): (Kinematics, Kinematics),
     world: &World,
+    would_be_overlap: impl Fn(Features) -> f64,
 ) {
+    let law = &world.settings.law;
     if found.is_empty() {
-        contact.clear();
+        contact.clear(law, would_be_overlap);
     } else {
-        contact.resolve(found, first, second, &world.settings.law, world.dt);
+        contact.resolve(found, &first, &second, law, world.dt, would_be_overlap);
     }
 }

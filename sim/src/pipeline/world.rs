@@ -15,7 +15,7 @@ pub struct WorldSettings {
     pub law: ContactLaw,
     /// Acceleration of gravity (m/s^2).
     pub gravity: Vec2,
-    /// Time step (s). `None`: a fiftieth of the binary collision of the lightest grains.
+    /// Time step (s). `None`: 1/400 of the binary collision of the lightest grains.
     pub time_step: Option<f64>,
     /// Verlet skin as a fraction of the smallest grain's bounding radius.
     pub skin_fraction: f64,
@@ -88,6 +88,8 @@ pub struct World {
     pub(crate) pair_incidence: Incidence,
     pub(crate) wall_incidence: Incidence,
     pub(crate) forces_ready: bool,
+    /// Switching energy of pairs no longer in the Verlet list.
+    pub(crate) switching_dropped: f64,
 }
 
 impl World {
@@ -141,6 +143,7 @@ impl World {
             pair_incidence: Incidence::default(),
             wall_incidence: Incidence::default(),
             forces_ready: false,
+            switching_dropped: 0.0,
         })
     }
 
@@ -348,7 +351,9 @@ impl World {
                 second,
                 force: s.force(),
                 point: s.point,
+                normal: s.normal,
                 overlap: s.overlap,
+                displacement: s.displacement,
             })
         })
     }
@@ -375,7 +380,9 @@ impl World {
             }
         }
         let law = &self.settings.law;
+        e.switching = self.switching_dropped;
         for c in self.pair_contacts.iter().chain(&self.wall_contacts) {
+            e.switching += c.switched;
             for s in &c.subs {
                 e.elastic += law.elastic_energy(s.overlap, s.displacement);
             }

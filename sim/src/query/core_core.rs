@@ -88,6 +88,35 @@ pub fn core_core_sub_contacts(
     }
 }
 
+/// The overlap the sub-contact `features` would have at the current placement, had it been
+/// kept: the continuation of its own distance (a vertex's distance from an edge's line, or
+/// from the other vertex). Used to account for the energy a sub-contact takes with it when
+/// the feature rules switch it off at a finite overlap.
+pub fn feature_overlap(first: &PlacedCore, second: &PlacedCore, features: Features) -> f64 {
+    let cutoff = first.radius + second.radius;
+    let vertex = |core: &PlacedCore, k: u8| core.vertices.get(k as usize).copied();
+    let line_distance = |core: &PlacedCore, e: u8, p: Vec2| {
+        let e = e as usize;
+        (p - core.vertices[e]).dot(&core.normal(e))
+    };
+    let distance = match features {
+        Features::VertexEdge { vertex: k, edge } => {
+            vertex(first, k).map(|p| line_distance(second, edge, p))
+        }
+        Features::EdgeVertex { edge, vertex: m } => {
+            vertex(second, m).map(|q| line_distance(first, edge, q))
+        }
+        Features::VertexVertex {
+            first: k,
+            second: m,
+        } => vertex(first, k)
+            .zip(vertex(second, m))
+            .map(|(p, q)| (p - q).norm()),
+        Features::VertexWall { .. } => None,
+    };
+    distance.map_or(0.0, |d| cutoff - d)
+}
+
 /// Vertex k of `owner` against `core`: calls `emit` for each touch within `cutoff`.
 fn vertex_against_core(
     owner: &PlacedCore,

@@ -20,3 +20,14 @@ pub fn core_wall_sub_contacts(core: &PlacedCore, wall: &Wall, out: &mut SmallVec
         }
     }
 }
+
+/// The overlap a vertex-wall sub-contact would have at the current placement.
+pub fn wall_feature_overlap(core: &PlacedCore, wall: &Wall, features: Features) -> f64 {
+    match features {
+        Features::VertexWall { vertex } => core
+            .vertices
+            .get(vertex as usize)
+            .map_or(0.0, |p| core.radius - wall.distance(*p)),
+        _ => 0.0,
+    }
+}

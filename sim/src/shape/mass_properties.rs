@@ -1,5 +1,3 @@
-use std::f64::consts::PI;
-
 use crate::math::{Vec2, cross};
 
 /// Area, first moment and polar second moment of a rounded convex polygon about the origin.
@@ -99,5 +97,5 @@ fn sector_moments(apex: Vec2, normal_in: Vec2, normal_out: Vec2, radius: f64) ->
 #[cfg(test)]
 /// Area of the rounded outline, from the core's area and perimeter (Steiner formula).
 pub(crate) fn steiner_area(core_area: f64, core_perimeter: f64, radius: f64) -> f64 {
-    core_area + core_perimeter * radius + PI * radius * radius
+    core_area + core_perimeter * radius + std::f64::consts::PI * radius * radius
 }

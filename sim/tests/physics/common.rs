@@ -1,0 +1,57 @@
+//! Scenes shared by the physics tests.
+
+use sim::{ContactLaw, GrainState, ShapeId, Spheropolygon, Vec2, Wall, World, WorldSettings};
+
+/// The paper's nut: a 6.9 mm square, r = 0.35 mm (0.05 D), 20.3 kg/m^2.
+pub const SIDE: f64 = 6.9e-3;
+pub const SQUARE_RADIUS: f64 = 0.35e-3;
+pub const NUT_DENSITY: f64 = 20.3;
+/// Long rod 8.9 x 3 mm, r = 0.15 mm, 18.5 kg/m^2.
+pub const ROD_LENGTH: f64 = 8.9e-3;
+pub const ROD_WIDTH: f64 = 3e-3;
+pub const ROD_RADIUS: f64 = 0.15e-3;
+pub const ROD_DENSITY: f64 = 18.5;
+
+pub fn square() -> Spheropolygon {
+    Spheropolygon::rounded_rectangle(SIDE, SIDE, SQUARE_RADIUS).unwrap()
+}
+
+pub fn rod() -> Spheropolygon {
+    Spheropolygon::rounded_rectangle(ROD_LENGTH, ROD_WIDTH, ROD_RADIUS).unwrap()
+}
+
+pub fn world(law: ContactLaw, gravity: Vec2, dt: Option<f64>) -> World {
+    World::new(WorldSettings {
+        law,
+        gravity,
+        time_step: dt,
+        ..WorldSettings::default()
+    })
+    .unwrap()
+}
+
+/// A floor at y = 0; returns its wall index.
+pub fn add_floor(world: &mut World) -> usize {
+    world
+        .add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))
+        .unwrap()
+}
+
+pub fn add_square(world: &mut World) -> ShapeId {
+    world.add_shape(square(), NUT_DENSITY).unwrap()
+}
+
+pub fn at(x: f64, y: f64, angle: f64) -> GrainState {
+    GrainState::at_rest(Vec2::new(x, y), angle)
+}
+
+pub fn moving(x: f64, y: f64, angle: f64, vx: f64, vy: f64) -> GrainState {
+    GrainState {
+        velocity: Vec2::new(vx, vy),
+        ..at(x, y, angle)
+    }
+}
+
+pub fn mass(world: &World, i: usize) -> f64 {
+    world.grains().mass[i]
+}

@@ -1,0 +1,10 @@
+//! Physics tests of the engine: each compares with an exact or analytic answer.
+
+mod collisions;
+mod common;
+mod determinism;
+mod energy;
+mod impacts;
+mod inputs;
+mod resting;
+mod slope;
