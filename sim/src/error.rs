@@ -9,6 +9,8 @@ pub enum ShapeError {
     NonPositiveRadius(f64),
     #[error("field `vertices` has {0} vertices; a core polygon needs at least 3")]
     TooFewVertices(usize),
+    #[error("field `vertices` has {0} vertices; at most 64 are supported")]
+    TooManyVertices(usize),
     #[error(
         "field `vertices` is not a convex counter-clockwise polygon: the turn at vertex {vertex} is {turn:e} (must be > 0)"
     )]

@@ -17,6 +17,11 @@ pub struct VerletList {
 }
 
 impl VerletList {
+    pub fn memory_bytes(&self) -> usize {
+        self.reference.capacity() * std::mem::size_of::<Vec2>()
+            + (self.pairs.capacity() + self.wall_pairs.capacity()) * 8
+    }
+
     /// True when some grain moved more than half the skin since the last rebuild (or has a
     /// non-finite position), so a pair could have come within reach unseen.
     pub fn is_stale(&self, positions: &[Vec2], skin: f64) -> bool {

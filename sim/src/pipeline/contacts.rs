@@ -238,6 +238,10 @@ impl Incidence {
         }
     }
 
+    pub fn memory_bytes(&self) -> usize {
+        self.start.capacity() * 4 + self.entries.capacity() * 8
+    }
+
     pub fn of(&self, grain: usize) -> &[(u32, bool)] {
         &self.entries[self.start[grain] as usize..self.start[grain + 1] as usize]
     }

@@ -274,6 +274,58 @@ impl World {
         self.dt
     }
 
+    /// Changes the time step, refused above the stability bound of any grain shape.
+    pub fn set_time_step(&mut self, dt: f64) -> Result<(), SimError> {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(SimError::BadParameter {
+                field: "time_step",
+                value: dt,
+                expected: "expected a positive time step in seconds",
+            });
+        }
+        let critical = self.critical_time_step();
+        if dt > critical {
+            return Err(SimError::TimeStepTooLarge { dt, critical });
+        }
+        self.dt = dt;
+        Ok(())
+    }
+
+    /// The smallest stability bound over the registered shapes (infinite with none).
+    pub fn critical_time_step(&self) -> f64 {
+        self.shapes
+            .iter()
+            .map(|s| {
+                critical_time_step(
+                    &self.settings.law,
+                    s.mass,
+                    s.inertia,
+                    s.shape.bounding_radius(),
+                )
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Bytes held by the world's arrays (grain state, placed cores, neighbour lists, contacts).
+    pub fn memory_bytes(&self) -> usize {
+        use std::mem::size_of;
+        let g = &self.grains;
+        let per_grain = g.position.capacity() * (3 * size_of::<Vec2>())
+            + g.angle.capacity() * (6 * size_of::<f64>())
+            + g.shape.capacity() * size_of::<u32>()
+            + self.reach.capacity() * size_of::<f64>()
+            + self.mobile.capacity()
+            + self.vertex_start.capacity() * size_of::<u32>();
+        let placed = (self.placed_vertices.capacity() + self.placed_directions.capacity())
+            * size_of::<Vec2>();
+        let lists = self.verlet.memory_bytes()
+            + (self.pair_contacts.capacity() + self.wall_contacts.capacity())
+                * size_of::<PairContact>()
+            + self.pair_incidence.memory_bytes()
+            + self.wall_incidence.memory_bytes();
+        per_grain + placed + lists
+    }
+
     pub fn time(&self) -> f64 {
         self.time
     }

@@ -130,25 +130,26 @@ fn vertex_against_core(
     let p = owner.vertices[k];
     let n = core.len();
 
-    // Inside the core: every edge line has the vertex on its inner side.
+    // Signed distance from each edge line. The distance to a convex core is at least the
+    // largest of them, so one beyond the cutoff rules the vertex out: most vertices of a pair
+    // face away from the other grain and stop here after an edge or two.
     let mut nearest_edge = 0;
     let mut nearest_distance = f64::NEG_INFINITY;
     for e in 0..n {
         let s = (p - core.vertices[e]).dot(&core.normal(e));
-        if s > 0.0 {
-            nearest_distance = f64::NAN;
-            break;
+        if s >= cutoff {
+            return;
         }
         if s > nearest_distance {
             nearest_distance = s;
             nearest_edge = e;
         }
     }
-    if !nearest_distance.is_nan() {
+    if nearest_distance <= 0.0 {
+        // Inside the core: every edge line has the vertex on its inner side.
         let mut edge = nearest_edge;
         if let Some(e) = preferred_edge.filter(|&e| e < n) {
-            let s = (p - core.vertices[e]).dot(&core.normal(e));
-            if s > nearest_distance - cutoff {
+            if (p - core.vertices[e]).dot(&core.normal(e)) > nearest_distance - cutoff {
                 edge = e;
             }
         }
@@ -170,7 +171,7 @@ fn vertex_against_core(
         let along = rel.dot(&core.directions[e]);
         if along > 0.0 && along < core.lengths[e] {
             let s = rel.dot(&core.normal(e));
-            if (0.0..cutoff).contains(&s) {
+            if s >= 0.0 {
                 emit(Touch {
                     foot: Foot::Edge(e),
                     normal: core.normal(e),

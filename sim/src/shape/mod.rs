@@ -5,3 +5,6 @@ mod spheropolygon;
 
 pub use mass_properties::RoundedMoments;
 pub use spheropolygon::Spheropolygon;
+
+/// Most core vertices a shape may have (contact features are indexed by a byte).
+pub const MAX_VERTICES: usize = 64;

@@ -44,6 +44,9 @@ impl Spheropolygon {
         if n < 3 {
             return Err(ShapeError::TooFewVertices(n));
         }
+        if n > super::MAX_VERTICES {
+            return Err(ShapeError::TooManyVertices(n));
+        }
         let scale = vertices.iter().map(|v| v.norm()).fold(0.0, f64::max);
         for k in 0..n {
             let a = vertices[(k + n - 1) % n];

@@ -1,0 +1,149 @@
+//! Engine throughput on settled dense deposits (issue: DEM core, "Speed").
+//!
+//! The scene is defined so that a peer code can build the same one (benches/peers/): a box of
+//! width W = 256 mm with a floor and two side walls; grains on a square grid of pitch
+//! 1.1 x sqrt(L^2 + D^2), n_c = floor(W / pitch) columns, centres at x = pitch/2 + k pitch and
+//! rows from y = pitch/2 up, filled row by row, random orientation in [0, 2 pi), at rest;
+//! settled under gravity with a coarse step, then timed at the paper's 1e-6 s.
+
+use std::time::Instant;
+
+use anyhow::Context;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use sim::{ContactLaw, GrainState, Vec2, Wall, World, WorldSettings};
+
+use crate::grains::{DEFAULT_ROUNDING, GrainKind};
+
+/// Width of the benchmark box (m).
+pub const BOX_WIDTH: f64 = 0.256;
+
+/// One deposit to settle.
+#[derive(Clone, Copy, Debug)]
+pub struct DepositSpec {
+    pub kind: GrainKind,
+    pub grains: usize,
+    pub seed: u64,
+}
+
+/// Builds the grid of grains in the box, at rest, with the paper's contact law.
+pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
+    let mut world = World::new(WorldSettings {
+        law: ContactLaw::default(),
+        gravity: Vec2::new(0.0, -10.0),
+        time_step: Some(time_step),
+        ..WorldSettings::default()
+    })?;
+    world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
+    world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
+    world.add_wall(Wall::new(Vec2::new(BOX_WIDTH, 0.0), Vec2::new(-1.0, 0.0)))?;
+    let kind = spec.kind;
+    let shape = world.add_shape(kind.outline(DEFAULT_ROUNDING)?, kind.areal_density())?;
+    let pitch = 1.1 * kind.length().hypot(kind.width());
+    let columns = (BOX_WIDTH / pitch).floor() as usize;
+    let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
+    for k in 0..spec.grains {
+        let (row, col) = (k / columns, k % columns);
+        let position = Vec2::new(pitch * (col as f64 + 0.5), pitch * (row as f64 + 0.5));
+        let angle = rng.random::<f64>() * std::f64::consts::TAU;
+        world.add_grain(shape, GrainState::at_rest(position, angle))?;
+    }
+    Ok(world)
+}
+
+/// Lets the grid fall and settle until the kinetic energy is below `1e-4` of the elastic
+/// energy (SPEC §2's relaxation criterion), checked every 1000 steps. `progress` gets the
+/// simulated time.
+pub fn settle(
+    world: &mut World,
+    max_time: f64,
+    mut progress: impl FnMut(f64),
+) -> anyhow::Result<()> {
+    // Nothing can be at rest before the top row has had time to land.
+    let top = world
+        .grains()
+        .position
+        .iter()
+        .map(|p| p.y)
+        .fold(0.0, f64::max);
+    let fall_time = (2.0 * top / 10.0).sqrt();
+    loop {
+        world
+            .run(1000)
+            .context("while settling the benchmark deposit")?;
+        progress(world.time());
+        let e = world.energies();
+        if world.time() > fall_time && e.kinetic < 1e-4 * e.elastic {
+            return Ok(());
+        }
+        if world.time() > max_time {
+            anyhow::bail!(
+                "the deposit did not settle in {max_time} s (kinetic {:e} J, elastic {:e} J)",
+                e.kinetic,
+                e.elastic
+            );
+        }
+    }
+}
+
+/// Throughput of one timed run.
+#[derive(Clone, Copy, Debug)]
+pub struct Throughput {
+    pub threads: usize,
+    pub steps: u64,
+    pub seconds: f64,
+    pub grain_steps_per_second: f64,
+    /// Processor time used by the run, all threads (s). On a loaded machine the wall time
+    /// measures the other processes too; grain-steps per CPU second do not.
+    pub cpu_seconds: f64,
+    /// Sub-contacts at the end of the run (a check that the deposit is dense).
+    pub contacts: usize,
+}
+
+/// Runs `steps` steps of a copy of `world` at `time_step` on `threads` threads.
+pub fn measure(
+    world: &World,
+    time_step: f64,
+    steps: u64,
+    threads: usize,
+) -> anyhow::Result<Throughput> {
+    let mut w = world.clone();
+    w.set_time_step(time_step)?;
+    w.prime()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start the thread pool")?;
+    let (start, cpu_start) = (Instant::now(), cpu_time());
+    pool.install(|| w.run(steps))?;
+    let seconds = start.elapsed().as_secs_f64();
+    let cpu_seconds = cpu_time() - cpu_start;
+    Ok(Throughput {
+        threads,
+        steps,
+        seconds,
+        grain_steps_per_second: (w.len() as f64 * steps as f64) / seconds,
+        cpu_seconds,
+        contacts: w.contacts().count(),
+    })
+}
+
+/// Peak resident memory of this process (bytes), from /proc; None where unavailable.
+pub fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
+}
+
+/// User plus system processor time of this process so far (s).
+pub fn cpu_time() -> f64 {
+    // SAFETY: getrusage only writes into the struct we hand it.
+    let usage = unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
+        usage
+    };
+    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    secs(usage.ru_utime) + secs(usage.ru_stime)
+}

@@ -1,0 +1,3 @@
+//! Benchmarks behind `facets bench ...`: the work and its measurement; the CLI only prints.
+
+pub mod engine;
