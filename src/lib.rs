@@ -7,4 +7,5 @@
 pub mod bench;
 pub mod deposit;
 pub mod grains;
+pub mod impact;
 pub mod io;
