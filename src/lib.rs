@@ -4,5 +4,6 @@
 //! model and one analysis, so that experiment and simulation are measured by the same code.
 //! The binary in `main.rs` only parses arguments and dispatches here.
 
+pub mod analysis;
 pub mod deposit;
 pub mod io;
