@@ -7,3 +7,4 @@
 pub mod analysis;
 pub mod deposit;
 pub mod io;
+pub mod plot;

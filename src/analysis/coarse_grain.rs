@@ -100,19 +100,6 @@ fn erf_difference(hi: f64, lo: f64) -> f64 {
     }
 }
 
-/// Squared distance from R to the segment a..b.
-fn segment_distance2(r: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
-    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-    let l2 = dx * dx + dy * dy;
-    let t = if l2 > 0.0 {
-        (((r[0] - a[0]) * dx + (r[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let (ex, ey) = (r[0] - a[0] - t * dx, r[1] - a[1] - t * dy);
-    ex * ex + ey * ey
-}
-
 /// A bucket grid over segments: each cell lists (in segment order) the segments that come
 /// within `reach` of any point of the cell.
 struct Buckets {
@@ -126,7 +113,7 @@ struct Buckets {
 
 impl Buckets {
     fn new(segments: &[([f64; 2], [f64; 2])], reach: f64) -> Buckets {
-        let cell = reach * 0.5;
+        let cell = reach * 0.25;
         let (mut lo, mut hi) = ([f64::MAX; 2], [f64::MIN; 2]);
         for (a, b) in segments {
             for k in 0..2 {
@@ -195,32 +182,86 @@ impl Buckets {
     }
 }
 
+/// A branch prepared for evaluation: unit direction, length and the tensor -f (x) v.
+struct Prepared {
+    a: [f64; 2],
+    /// Unit vector from b to a (along v = a - b); zero for a point branch.
+    dir: [f64; 2],
+    len: f64,
+    /// -f_a v_b, components [xx, xy, yx, yy].
+    tensor: [f64; 4],
+}
+
+impl Prepared {
+    fn new(br: &Branch) -> Prepared {
+        let v = [br.a[0] - br.b[0], br.a[1] - br.b[1]];
+        let len = v[0].hypot(v[1]);
+        let dir = if len > 0.0 { [v[0] / len, v[1] / len] } else { [0.0; 2] };
+        Prepared {
+            a: br.a,
+            dir,
+            len,
+            tensor: [
+                -br.force[0] * v[0],
+                -br.force[0] * v[1],
+                -br.force[1] * v[0],
+                -br.force[1] * v[1],
+            ],
+        }
+    }
+
+    /// The line integral at R, or None beyond the cut-off (squared reach `reach2`). Same
+    /// closed form as [`gaussian_line_integral`], on precomputed direction and length.
+    #[inline]
+    fn integral(&self, r: [f64; 2], w: f64, reach2: f64) -> Option<f64> {
+        let u = [r[0] - self.a[0], r[1] - self.a[1]];
+        // Position of R's projection along the branch, measured from a towards b.
+        let t = -(u[0] * self.dir[0] + u[1] * self.dir[1]);
+        let p = u[0] * self.dir[1] - u[1] * self.dir[0];
+        let dist2 = if t < 0.0 {
+            u[0] * u[0] + u[1] * u[1]
+        } else if t > self.len {
+            (t - self.len) * (t - self.len) + p * p
+        } else {
+            p * p
+        };
+        if dist2 > reach2 {
+            return None;
+        }
+        let norm = 1.0 / (std::f64::consts::PI * w * w);
+        if self.len < 1e-6 * w {
+            let m = [u[0] + 0.5 * self.len * self.dir[0], u[1] + 0.5 * self.len * self.dir[1]];
+            return Some(norm * (-(m[0] * m[0] + m[1] * m[1]) / (w * w)).exp());
+        }
+        // With s0 = t / len: hi = len (1 - s0) / w, lo = -len s0 / w.
+        let hi = (self.len - t) / w;
+        let lo = -t / w;
+        Some(
+            norm * (-(p * p) / (w * w)).exp() * (w * std::f64::consts::PI.sqrt() / (2.0 * self.len))
+                * erf_difference(hi, lo),
+        )
+    }
+}
+
 /// The coarse-grained stress at each point.
-pub fn stress_at(
-    branches: &[Branch],
-    points: &[[f64; 2]],
-    input: &CoarseGrainInput,
-) -> Vec<Stress> {
+pub fn stress_at(branches: &[Branch], points: &[[f64; 2]], input: &CoarseGrainInput) -> Vec<Stress> {
     let reach = input.cutoff * input.w;
+    let reach2 = reach * reach;
     let segments: Vec<_> = branches.iter().map(|b| (b.a, b.b)).collect();
     let buckets = Buckets::new(&segments, reach);
+    let prepared: Vec<Prepared> = branches.iter().map(Prepared::new).collect();
     points
         .par_iter()
         .with_min_len(16)
         .map(|&r| {
             let mut s = [0.0; 4];
             for &k in buckets.candidates(r) {
-                let br = &branches[k as usize];
-                if segment_distance2(r, br.a, br.b) > reach * reach {
-                    continue;
+                let br = &prepared[k as usize];
+                if let Some(i) = br.integral(r, input.w, reach2) {
+                    for c in 0..4 {
+                        s[c] += br.tensor[c] * i;
+                    }
                 }
-                let u = [r[0] - br.a[0], r[1] - br.a[1]];
-                let v = [br.a[0] - br.b[0], br.a[1] - br.b[1]];
-                let i = gaussian_line_integral(u, v, input.w);
-                s[0] -= br.force[0] * v[0] * i;
-                s[1] -= br.force[0] * v[1] * i;
-                s[2] -= br.force[1] * v[0] * i;
-                s[3] -= br.force[1] * v[1] * i;
             }
             s
         })

@@ -3,7 +3,9 @@
 //! struct (serialisable, so `facets compare` can read what `facets analyse` wrote).
 
 pub mod coarse_grain;
+pub mod compare;
 pub mod orientation;
 pub mod pressure;
 pub mod rdf;
 pub mod stats;
+pub mod summary;

@@ -1,7 +1,10 @@
 //! One file per subcommand; each holds its clap arguments and a `run` that calls the library.
 
+mod analyse;
 mod bench;
+mod compare;
 mod drop;
+mod progress;
 
 use clap::{Parser, Subcommand};
 
@@ -20,6 +23,11 @@ pub struct Cli {
 pub enum Command {
     /// Drop one grain onto a floor or a resting grain and report the collision.
     Drop(drop::Args),
+    /// Measure deposits: f(theta), g(r), packing fraction, coarse-grained stress, pressure
+    /// profiles; figures and summary.json.
+    Analyse(analyse::Args),
+    /// Overlay experiment and simulation (two `analyse` outputs) in the same figures.
+    Compare(compare::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -28,6 +36,8 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Drop(args) => drop::run(args),
+        Command::Analyse(args) => analyse::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

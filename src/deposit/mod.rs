@@ -18,6 +18,7 @@ mod ensemble;
 mod grain;
 mod meta;
 mod shape;
+mod synthetic;
 mod table;
 
 pub use area::{AnalysedArea, WALL_MARGIN};
@@ -29,4 +30,5 @@ pub use meta::{
     DepositMeta, FrameMm, Source, contacts_path, meta_path, read_meta_json, write_meta_json,
 };
 pub use shape::Shape;
+pub use synthetic::jittered_lattice;
 pub use table::{Deposit, read_deposit_csv, write_deposit_csv};

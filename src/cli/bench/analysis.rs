@@ -1,0 +1,117 @@
+use std::time::Instant;
+
+use clap::Args as ClapArgs;
+
+use facets::analysis::coarse_grain::{
+    CoarseGrainInput, branches, grid_points, linspace, stress_at,
+};
+use facets::analysis::rdf::{self, RdfInput};
+use facets::deposit::{
+    DepositMeta, Ensemble, FrameMm, Realisation, Shape, Source, SquareStack, jittered_lattice,
+};
+
+#[derive(Debug, ClapArgs)]
+pub struct Args {
+    /// Deposits in the g(r) ensemble.
+    #[arg(long, default_value_t = 100)]
+    pub deposits: usize,
+    /// Grains per deposit.
+    #[arg(long, default_value_t = 1000)]
+    pub grains: usize,
+    /// Repetitions of each timing; the best is reported (the machine is shared).
+    #[arg(long, default_value_t = 3)]
+    pub repeat: usize,
+}
+
+fn best_of<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
+    let mut best = f64::INFINITY;
+    let mut out = None;
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        let r = f();
+        best = best.min(t.elapsed().as_secs_f64());
+        out = Some(r);
+    }
+    (best, out.expect("at least one run"))
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let threads = rayon::current_num_threads();
+    println!("facets bench analysis ({threads} threads; best of {})", args.repeat);
+    println!("{:<58} {:>10} {:>8} {:>6}", "measure", "time (s)", "goal (s)", "ok");
+
+    // g(r): squares (D = 6.9 mm) in a photograph-sized frame, W = 258 mm.
+    let side = 6.9e-3;
+    let frame = [0.0, 0.258, 0.290, 0.290 + 0.258 * 0.8];
+    let realisations: Vec<Realisation> = (0..args.deposits)
+        .map(|k| Realisation {
+            name: format!("synthetic {k}"),
+            deposit: jittered_lattice(args.grains, side, side, frame, 0.2, 0.3, k as u64),
+            contacts: None,
+            meta: DepositMeta {
+                silo_width_mm: 258.0,
+                phi0: 0.1,
+                frame_mm: Some(FrameMm {
+                    x_min: frame[0] * 1e3,
+                    x_max: frame[1] * 1e3,
+                    y_min: frame[2] * 1e3,
+                    y_max: frame[3] * 1e3,
+                }),
+                areal_density_kg_m2: None,
+                gravity_m_s2: None,
+                source: Source::Experiment,
+            },
+            shape: Shape::Square,
+        })
+        .collect();
+    let ensemble = Ensemble::new(realisations)?;
+    let (t, result) = best_of(args.repeat, || rdf::compute(&RdfInput::default(), &ensemble));
+    let result = result?;
+    row(
+        &format!(
+            "g(r): {} deposits x {} grains ({} centres)",
+            args.deposits, args.grains, result.n_centres
+        ),
+        t,
+        1.0,
+    );
+
+    // Stress: a built stack of 3 mm squares, 85 x 118 grains, ~20 000 contacts.
+    let stack = SquareStack {
+        columns: 85,
+        rows: 118,
+        side: 3e-3,
+        ..SquareStack::default()
+    };
+    let (deposit, contacts, _) = stack.build(0.1);
+    let list = branches(&deposit, &contacts);
+    let xs = linspace(0.0, stack.silo_width(), 200);
+    let ys = linspace(0.0, stack.rows as f64 * stack.side, 600);
+    let points = grid_points(&xs, &ys);
+    for w_over_d in [3.0, 4.0] {
+        let input = CoarseGrainInput::new(w_over_d * stack.side);
+        let (t, _) = best_of(args.repeat, || stress_at(&list, &points, &input));
+        row(
+            &format!(
+                "stress: 200 x 600 grid, {} contacts, w = {w_over_d} D = {:.0} mm",
+                list.len(),
+                input.w * 1e3
+            ),
+            t,
+            2.0,
+        );
+    }
+    println!(
+        "(stress kernel cut off at {} w: relative error <= {:.1e})",
+        facets::analysis::coarse_grain::DEFAULT_CUTOFF,
+        CoarseGrainInput::new(1.0).cutoff_error_bound()
+    );
+    Ok(())
+}
+
+fn row(what: &str, t: f64, goal: f64) {
+    println!(
+        "{what:<58} {t:>10.3} {goal:>8.1} {:>6}",
+        if t < goal { "yes" } else { "NO" }
+    );
+}
