@@ -169,3 +169,19 @@ fn integral_of_sigma_yy_plus_wall_friction_equals_weight_above() {
         );
     }
 }
+
+#[test]
+fn stress_does_not_depend_on_the_thread_count() {
+    let s = setup();
+    let xs = linspace(0.0, s.stack.silo_width(), 23);
+    let ys = linspace(0.0, s.stack.rows as f64 * s.stack.side, 31);
+    let points = grid_points(&xs, &ys);
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| stress_at(&s.list, &points, &s.input))
+    };
+    assert_eq!(run(1), run(3));
+}

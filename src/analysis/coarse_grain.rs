@@ -196,7 +196,11 @@ impl Prepared {
     fn new(br: &Branch) -> Prepared {
         let v = [br.a[0] - br.b[0], br.a[1] - br.b[1]];
         let len = v[0].hypot(v[1]);
-        let dir = if len > 0.0 { [v[0] / len, v[1] / len] } else { [0.0; 2] };
+        let dir = if len > 0.0 {
+            [v[0] / len, v[1] / len]
+        } else {
+            [0.0; 2]
+        };
         Prepared {
             a: br.a,
             dir,
@@ -230,21 +234,29 @@ impl Prepared {
         }
         let norm = 1.0 / (std::f64::consts::PI * w * w);
         if self.len < 1e-6 * w {
-            let m = [u[0] + 0.5 * self.len * self.dir[0], u[1] + 0.5 * self.len * self.dir[1]];
+            let m = [
+                u[0] + 0.5 * self.len * self.dir[0],
+                u[1] + 0.5 * self.len * self.dir[1],
+            ];
             return Some(norm * (-(m[0] * m[0] + m[1] * m[1]) / (w * w)).exp());
         }
         // With s0 = t / len: hi = len (1 - s0) / w, lo = -len s0 / w.
         let hi = (self.len - t) / w;
         let lo = -t / w;
         Some(
-            norm * (-(p * p) / (w * w)).exp() * (w * std::f64::consts::PI.sqrt() / (2.0 * self.len))
+            norm * (-(p * p) / (w * w)).exp()
+                * (w * std::f64::consts::PI.sqrt() / (2.0 * self.len))
                 * erf_difference(hi, lo),
         )
     }
 }
 
 /// The coarse-grained stress at each point.
-pub fn stress_at(branches: &[Branch], points: &[[f64; 2]], input: &CoarseGrainInput) -> Vec<Stress> {
+pub fn stress_at(
+    branches: &[Branch],
+    points: &[[f64; 2]],
+    input: &CoarseGrainInput,
+) -> Vec<Stress> {
     let reach = input.cutoff * input.w;
     let reach2 = reach * reach;
     let segments: Vec<_> = branches.iter().map(|b| (b.a, b.b)).collect();
@@ -258,8 +270,8 @@ pub fn stress_at(branches: &[Branch], points: &[[f64; 2]], input: &CoarseGrainIn
             for &k in buckets.candidates(r) {
                 let br = &prepared[k as usize];
                 if let Some(i) = br.integral(r, input.w, reach2) {
-                    for c in 0..4 {
-                        s[c] += br.tensor[c] * i;
+                    for (acc, t) in s.iter_mut().zip(br.tensor) {
+                        *acc += t * i;
                     }
                 }
             }

@@ -90,7 +90,9 @@ pub fn expand(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
                 .filter(|f| {
                     let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
                     name.is_some_and(|n| {
-                        n.ends_with(".csv") && !n.ends_with(".contacts.csv") && !n.ends_with(".grains.csv")
+                        n.ends_with(".csv")
+                            && !n.ends_with(".contacts.csv")
+                            && !n.ends_with(".grains.csv")
                     })
                 })
                 .collect();
@@ -155,7 +157,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let p = contacts_path(file);
             p.exists().then_some(p)
         });
-        sources.insert(real.name.clone(), (absolute(file), contacts.map(|c| absolute(&c))));
+        sources.insert(
+            real.name.clone(),
+            (absolute(file), contacts.map(|c| absolute(&c))),
+        );
         realisations.push(real);
         loading.inc(1);
     }

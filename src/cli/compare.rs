@@ -40,8 +40,8 @@ fn read_summary(dir: &std::path::Path, source: Source) -> anyhow::Result<Summary
             path.display()
         )
     })?;
-    let mut summary: Summary = serde_json::from_str(&text)
-        .with_context(|| format!("in {}", path.display()))?;
+    let mut summary: Summary =
+        serde_json::from_str(&text).with_context(|| format!("in {}", path.display()))?;
     // The side of the comparison decides the style, whatever the sidecars said.
     summary.source = source;
     Ok(summary)

@@ -76,7 +76,12 @@ fn write_chart_csv(path: &Path, chart: &Chart) -> anyhow::Result<()> {
         w.write_record(["series", &chart.x_column, &chart.y_column, "stderr"])?;
         for s in &chart.series {
             for (x, y, e) in finite_points(s) {
-                w.write_record([s.label.clone(), format!("{x:e}"), format!("{y:e}"), format!("{e:e}")])?;
+                w.write_record([
+                    s.label.clone(),
+                    format!("{x:e}"),
+                    format!("{y:e}"),
+                    format!("{e:e}"),
+                ])?;
             }
         }
         w.flush()?;
@@ -150,9 +155,11 @@ fn draw_chart(png: &Path, chart: &Chart) -> anyhow::Result<()> {
                                 + PathElement::new(vec![(-10, 0), (10, 0)], colour.stroke_width(1))
                                 + TriangleMarker::new((0, 0), 6, colour.stroke_width(2))
                         });
-                        ctx.draw_series(line.iter().map(|&(x, y)| {
-                            TriangleMarker::new((x, y), 6, colour.stroke_width(2))
-                        }))
+                        ctx.draw_series(
+                            line.iter().map(|&(x, y)| {
+                                TriangleMarker::new((x, y), 6, colour.stroke_width(2))
+                            }),
+                        )
                         .map_err(plot_error)?;
                     }
                     if s.err.is_some() {
@@ -174,17 +181,12 @@ fn draw_chart(png: &Path, chart: &Chart) -> anyhow::Result<()> {
                     }
                 }
                 Kind::Model => {
-                    ctx.draw_series(DashedLineSeries::new(
-                        line,
-                        8,
-                        5,
-                        colour.stroke_width(2),
-                    ))
-                    .map_err(plot_error)?
-                    .label(&s.label)
-                    .legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
-                    });
+                    ctx.draw_series(DashedLineSeries::new(line, 8, 5, colour.stroke_width(2)))
+                        .map_err(plot_error)?
+                        .label(&s.label)
+                        .legend(move |(x, y)| {
+                            PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                        });
                 }
             }
         }
@@ -198,4 +200,3 @@ fn draw_chart(png: &Path, chart: &Chart) -> anyhow::Result<()> {
         Ok(())
     })
 }
-

@@ -173,8 +173,8 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
         }
         if !series.is_empty() {
             emit(
-        &mut written,
-        format!("pressure_w_scan_{}.png", tag(phi0)),
+                &mut written,
+                format!("pressure_w_scan_{}.png", tag(phi0)),
                 Chart {
                     title: format!("-sigma_yy on the centre line, phi0 = {phi0:.3}, scan over w"),
                     x_label: "h / W".into(),
@@ -240,8 +240,7 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
                     kind: Kind::Model,
                     colour: 5,
                     x: p.h_over_w.clone(),
-                    y: p
-                        .h_over_w
+                    y: p.h_over_w
                         .iter()
                         .map(|h| j.p_sat * (1.0 - (-h / j.lambda_over_w).exp()))
                         .collect(),
@@ -251,8 +250,8 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
         }
         if !series.is_empty() {
             emit(
-        &mut written,
-        format!("pressure_{}.png", tag(phi0)),
+                &mut written,
+                format!("pressure_{}.png", tag(phi0)),
                 Chart {
                     title: format!("Stress on the centre line, phi0 = {phi0:.3}"),
                     x_label: "h / W".into(),
@@ -265,7 +264,11 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
         }
         // The deposit pictures, one per source.
         for (source, e) in &at {
-            let path = out.join(format!("deposit_{}_{}.png", source_name(*source), tag(phi0)));
+            let path = out.join(format!(
+                "deposit_{}_{}.png",
+                source_name(*source),
+                tag(phi0)
+            ));
             draw_example(&path, e)?;
             written.push(path);
         }

@@ -37,8 +37,14 @@ fn best_of<T>(repeat: usize, mut f: impl FnMut() -> T) -> (f64, T) {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let threads = rayon::current_num_threads();
-    println!("facets bench analysis ({threads} threads; best of {})", args.repeat);
-    println!("{:<58} {:>10} {:>8} {:>6}", "measure", "time (s)", "goal (s)", "ok");
+    println!(
+        "facets bench analysis ({threads} threads; best of {})",
+        args.repeat
+    );
+    println!(
+        "{:<58} {:>10} {:>8} {:>6}",
+        "measure", "time (s)", "goal (s)", "ok"
+    );
 
     // g(r): squares (D = 6.9 mm) in a photograph-sized frame, W = 258 mm.
     let side = 6.9e-3;
@@ -65,7 +71,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         })
         .collect();
     let ensemble = Ensemble::new(realisations)?;
-    let (t, result) = best_of(args.repeat, || rdf::compute(&RdfInput::default(), &ensemble));
+    let (t, result) = best_of(args.repeat, || {
+        rdf::compute(&RdfInput::default(), &ensemble)
+    });
     let result = result?;
     row(
         &format!(
