@@ -23,10 +23,8 @@ pub struct Cli {
 pub enum Command {
     /// Drop one grain onto a floor or a resting grain and report the collision.
     Drop(drop::Args),
-    /// Measure deposits: f(theta), g(r), packing fraction, coarse-grained stress, pressure
-    /// profiles; figures and summary.json.
+    // Analyse and Compare take their help (with the list of outputs) from their Args' docs.
     Analyse(analyse::Args),
-    /// Overlay experiment and simulation (two `analyse` outputs) in the same figures.
     Compare(compare::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]

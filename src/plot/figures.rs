@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 use super::chart::{Chart, Kind, Series, write_chart};
 use super::deposit_picture::draw_deposit;
 use crate::analysis::summary::{EnsembleSummary, Summary};
-use crate::deposit::{DepositMeta, LoadOptions, Source, load_realisation};
+use crate::deposit::{LoadOptions, Source, load_realisation};
 
 fn source_name(s: Source) -> &'static str {
     match s {
@@ -278,9 +278,7 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
 
 fn draw_example(path: &Path, e: &EnsembleSummary) -> anyhow::Result<()> {
     let options = LoadOptions {
-        fallback_meta: Some(DepositMeta {
-            ..e.example_meta.clone()
-        }),
+        fallback_meta: Some(e.example_meta.clone()),
         contacts: e.example_contacts.as_ref().map(PathBuf::from),
     };
     let real = load_realisation(Path::new(&e.example_deposit), &options)?;
