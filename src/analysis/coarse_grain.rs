@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::deposit::{Contact, Deposit, Partner};
+use crate::deposit::{Contact, Deposit, Partner, Realisation};
 
 /// Default kernel cut-off, in multiples of w (error bound exp(-c^2) = 1.6e-9).
 pub const DEFAULT_CUTOFF: f64 = 4.5;
@@ -306,6 +306,41 @@ pub fn density_at(
             rho
         })
         .collect()
+}
+
+/// The coarse-grained fields of one realisation at the given points.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StressField {
+    pub input: CoarseGrainInput,
+    pub points: Vec<[f64; 2]>,
+    /// [xx, xy, yx, yy] (N/m), compressive negative.
+    pub sigma: Vec<Stress>,
+    /// Areal mass density with the same kernel (kg/m^2).
+    pub density: Vec<f64>,
+}
+
+/// Stress and density of a realisation with contacts, on a grid ([`grid_points`]) or along a
+/// line (any list of points).
+pub fn compute(
+    input: &CoarseGrainInput,
+    real: &Realisation,
+    points: Vec<[f64; 2]>,
+) -> anyhow::Result<StressField> {
+    let Some(contacts) = &real.contacts else {
+        anyhow::bail!(
+            "{}: no contact table, so no stress (simulated deposits write NAME.contacts.csv)",
+            real.name
+        );
+    };
+    let centres: Vec<[f64; 2]> = real.deposit.grains.iter().map(|g| [g.x, g.y]).collect();
+    let sigma = stress_at(&branches(&real.deposit, contacts), &points, input);
+    let density = density_at(&centres, &real.masses(), &points, input);
+    Ok(StressField {
+        input: *input,
+        points,
+        sigma,
+        density,
+    })
 }
 
 /// A rectangular grid of evaluation points, row by row (y outer, x inner).
