@@ -83,7 +83,7 @@ pub fn draw_deposit(png: &Path, real: &Realisation) -> anyhow::Result<()> {
         let mut ctx = ChartBuilder::on(root)
             .caption(
                 format!(
-                    "{}, phi0 = {:.3}: colour = orientation, lines = contact forces",
+                    "{}, phi0 = {:.3}: hue = theta / symmetry period, lines = contact forces (width ~ force)",
                     real.shape.name(),
                     real.meta.phi0
                 ),
