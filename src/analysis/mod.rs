@@ -8,4 +8,5 @@ pub mod orientation;
 pub mod pressure;
 pub mod rdf;
 pub mod stats;
+pub mod stress_grid;
 pub mod summary;
