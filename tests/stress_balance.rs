@@ -212,3 +212,19 @@ fn sample_deposit_field_from_files() {
         "compressive"
     );
 }
+
+#[test]
+fn grid_stress_does_not_depend_on_the_thread_count() {
+    use facets::analysis::stress_grid::stress_on_grid;
+    let s = setup();
+    let xs = linspace(0.0, s.stack.silo_width(), 17);
+    let ys = linspace(0.0, s.stack.rows as f64 * s.stack.side, 29);
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| stress_on_grid(&s.list, &xs, &ys, &s.input))
+    };
+    assert_eq!(run(1), run(3));
+}

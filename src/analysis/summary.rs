@@ -81,6 +81,13 @@ pub fn analyse(
     let Some(first) = ensembles.first() else {
         anyhow::bail!("nothing to analyse: no deposits");
     };
+    if examples.len() != ensembles.len() {
+        anyhow::bail!(
+            "{} example files for {} ensembles: give one per ensemble",
+            examples.len(),
+            ensembles.len()
+        );
+    }
     let mut out = Vec::new();
     for (k, ensemble) in ensembles.iter().enumerate() {
         let d = ensemble.realisations[0].grain_width();
