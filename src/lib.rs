@@ -4,8 +4,10 @@
 //! model and one analysis, so that experiment and simulation are measured by the same code.
 //! The binary in `main.rs` only parses arguments and dispatches here.
 
+pub mod analysis;
 pub mod bench;
 pub mod deposit;
 pub mod grains;
 pub mod impact;
 pub mod io;
+pub mod plot;

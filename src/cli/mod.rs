@@ -1,7 +1,10 @@
 //! One file per subcommand; each holds its clap arguments and a `run` that calls the library.
 
+mod analyse;
 mod bench;
+mod compare;
 mod drop;
+mod progress;
 
 use clap::{Parser, Subcommand};
 
@@ -20,6 +23,9 @@ pub struct Cli {
 pub enum Command {
     /// Drop one grain onto a floor or a resting grain and report the collision.
     Drop(drop::Args),
+    // Analyse and Compare take their help (with the list of outputs) from their Args' docs.
+    Analyse(analyse::Args),
+    Compare(compare::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -28,6 +34,8 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Drop(args) => drop::run(args),
+        Command::Analyse(args) => analyse::run(args),
+        Command::Compare(args) => compare::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

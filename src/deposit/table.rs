@@ -97,6 +97,9 @@ fn parse_deposit_csv<R: Read>(input: R) -> anyhow::Result<Deposit> {
         };
         grains.push(grain.folded());
     }
+    if grains.is_empty() {
+        bail!("the table has no grains (a header line and no rows)");
+    }
     Ok(Deposit { grains })
 }
 
@@ -177,5 +180,8 @@ mod tests {
         let text = "x_mm,y_mm,theta_rad,length_mm,width_mm\n1,2,0,abc,3\n";
         let err = format!("{:#}", parse_deposit_csv(text.as_bytes()).unwrap_err());
         assert!(err.contains("line 2"), "{err}");
+        let text = "x_mm,y_mm,theta_rad,length_mm,width_mm\n";
+        let err = format!("{:#}", parse_deposit_csv(text.as_bytes()).unwrap_err());
+        assert!(err.contains("no grains"), "{err}");
     }
 }

@@ -1,17 +1,22 @@
 //! `facets bench ...`: one file per benchmark.
 
+mod analysis;
 mod engine;
 
 use clap::Subcommand;
 
 #[derive(Debug, Subcommand)]
 pub enum Bench {
+    /// Analysis speed: g(r) of 100 deposits of 1 000 grains (goal < 1 s on 2 cores) and the
+    /// coarse-grained stress on a 200 x 600 grid from 20 000 contacts (goal < 2 s).
+    Analysis(analysis::Args),
     /// DEM engine throughput (grain-steps per second) on settled dense deposits.
     Engine(engine::Args),
 }
 
 pub fn run(bench: Bench) -> anyhow::Result<()> {
     match bench {
+        Bench::Analysis(args) => analysis::run(args),
         Bench::Engine(args) => engine::run(args),
     }
 }

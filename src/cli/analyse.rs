@@ -1,0 +1,230 @@
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use clap::Args as ClapArgs;
+
+use facets::analysis::summary::{AnalysisParameters, analyse};
+use facets::deposit::{
+    DepositMeta, Ensemble, FrameMm, LoadOptions, Source, contacts_path, load_realisation,
+};
+use facets::io::write_atomic;
+use facets::plot::write_figures;
+
+use super::progress::bar;
+
+/// Measure deposits (photographs or simulations) with the shared analysis and draw the figures.
+///
+/// Each deposit table NAME.csv may have sidecars beside it: NAME.meta.json (silo width, phi0,
+/// frame, source; see the deposit module docs) and NAME.contacts.csv (simulated contact forces,
+/// needed for the stress and pressure measures). Deposits are grouped by phi0 into ensembles;
+/// all must hold one grain shape.
+///
+/// Writes into --out:
+///   summary.json                    every result (read back by `facets compare`)
+///   orientation.png/.csv            f(theta) per phi0, ensemble mean +- standard error
+///   rdf.png/.csv                    g(r) per phi0 (r in grain widths D, dr = 0.1 D)
+///   g1_vs_phi0.png/.csv             g(r = D) against phi0
+///   packing_fraction_vs_phi0.png/.csv   phi_f of the analysed area against phi0
+///   pressure_phi0_X.png/.csv        -sigma_yy, -sigma_xx, -trace/2 on the centre line against
+///                                   h/W with the overburden (phi = 1 and phi_f) and the Janssen
+///                                   fit (simulated deposits only)
+///   pressure_w_scan_phi0_X.png/.csv -sigma_yy for each coarse-graining width of the scan
+///   deposit_SRC_phi0_X.png          the first deposit of each ensemble, grains coloured by
+///                                   orientation, force chains with width proportional to force;
+///                                   .csv = force chains, .grains.csv = grains
+/// Chart CSVs have one row per point: series,<x>,<y>,stderr. Stresses are in N/m (2D); divide by
+/// the plate gap for Pa.
+#[derive(Debug, ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// Deposit tables (CSV), or folders whose *.csv deposit tables are all taken (files named
+    /// *.contacts.csv and *.grains.csv are sidecars, not deposits).
+    #[arg(required = true)]
+    pub deposits: Vec<PathBuf>,
+    /// Contact tables, one per deposit in the same order (default: NAME.contacts.csv when it
+    /// exists).
+    #[arg(long, num_args = 1..)]
+    pub contacts: Vec<PathBuf>,
+    /// Output folder (created if missing).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// phi0 of deposits without a NAME.meta.json sidecar.
+    #[arg(long)]
+    pub phi0: Option<f64>,
+    /// Silo width W (mm) of deposits without a sidecar.
+    #[arg(long)]
+    pub silo_width_mm: Option<f64>,
+    /// Frame x_min,x_max,y_min,y_max (mm) of deposits without a sidecar (default: the whole
+    /// width, floor to the top grain).
+    #[arg(long, value_delimiter = ',', num_args = 4)]
+    pub frame_mm: Option<Vec<f64>>,
+    /// Source of deposits without a sidecar.
+    #[arg(long, value_enum, default_value = "experiment")]
+    pub source: SourceArg,
+    /// Coarse-graining width w in grain widths D (default: 4 for squares, 3 for rods, as the
+    /// paper).
+    #[arg(long)]
+    pub w_over_d: Option<f64>,
+    /// Widths of the scan over w, in D.
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3,4,6")]
+    pub w_scan: Vec<f64>,
+    /// Kernel cut-off in multiples of w (relative error at most exp(-cutoff^2)).
+    #[arg(long, default_value_t = facets::analysis::coarse_grain::DEFAULT_CUTOFF)]
+    pub cutoff: f64,
+}
+
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum SourceArg {
+    Experiment,
+    Simulation,
+}
+
+/// Deposit tables under the arguments, folders expanded (sorted, sidecars skipped).
+pub fn expand(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
+                .with_context(|| format!("cannot list {}", p.display()))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|f| {
+                    let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
+                    name.is_some_and(|n| {
+                        n.ends_with(".csv")
+                            && !n.ends_with(".contacts.csv")
+                            && !n.ends_with(".grains.csv")
+                    })
+                })
+                .collect();
+            found.sort();
+            if found.is_empty() {
+                anyhow::bail!("{}: no deposit tables (*.csv) in this folder", p.display());
+            }
+            out.extend(found);
+        } else {
+            out.push(p.clone());
+        }
+    }
+    Ok(out)
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let files = expand(&args.deposits)?;
+    if !args.contacts.is_empty() && args.contacts.len() != files.len() {
+        anyhow::bail!(
+            "--contacts gives {} tables for {} deposits: give one per deposit, in the same order",
+            args.contacts.len(),
+            files.len()
+        );
+    }
+    let fallback = match (args.phi0, args.silo_width_mm) {
+        (Some(phi0), Some(silo_width_mm)) => {
+            let meta = DepositMeta {
+                silo_width_mm,
+                phi0,
+                frame_mm: args.frame_mm.as_ref().map(|f| FrameMm {
+                    x_min: f[0],
+                    x_max: f[1],
+                    y_min: f[2],
+                    y_max: f[3],
+                }),
+                areal_density_kg_m2: None,
+                gravity_m_s2: None,
+                source: match args.source {
+                    SourceArg::Experiment => Source::Experiment,
+                    SourceArg::Simulation => Source::Simulation,
+                },
+            };
+            meta.validate().context("in the command-line options")?;
+            Some(meta)
+        }
+        (None, None) => None,
+        _ => anyhow::bail!("--phi0 and --silo-width-mm go together"),
+    };
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("cannot create {}", args.out.display()))?;
+
+    let loading = bar(files.len(), "loading");
+    let mut realisations = Vec::new();
+    let mut sources = std::collections::HashMap::new();
+    for (k, file) in files.iter().enumerate() {
+        let options = LoadOptions {
+            fallback_meta: fallback.clone(),
+            contacts: args.contacts.get(k).cloned(),
+        };
+        let real = load_realisation(file, &options)?;
+        let contacts = args.contacts.get(k).cloned().or_else(|| {
+            let p = contacts_path(file);
+            p.exists().then_some(p)
+        });
+        sources.insert(
+            real.name.clone(),
+            (absolute(file), contacts.map(|c| absolute(&c))),
+        );
+        realisations.push(real);
+        loading.inc(1);
+    }
+    loading.finish_and_clear();
+
+    let ensembles = Ensemble::group_by_phi0(realisations)?;
+    let examples: Vec<(String, Option<String>)> = ensembles
+        .iter()
+        .map(|e| {
+            let (d, c) = &sources[&e.realisations[0].name];
+            (d.clone(), c.clone())
+        })
+        .collect();
+    let parameters = AnalysisParameters {
+        w_over_d: args.w_over_d,
+        w_scan_over_d: args.w_scan.clone(),
+        cutoff: args.cutoff,
+        ..AnalysisParameters::default()
+    };
+    let progress = bar(ensembles.len(), "analysing");
+    let summary = analyse(&ensembles, &examples, &parameters, &|k| {
+        progress.set_position(k as u64)
+    })?;
+    progress.finish_and_clear();
+
+    write_atomic(&args.out.join("summary.json"), |w| {
+        serde_json::to_writer_pretty(&mut *w, &summary)?;
+        Ok(())
+    })?;
+    let figures = write_figures(&args.out, &[&summary])?;
+    println!(
+        "{} deposits of {} in {} ensembles; summary.json and {} figures in {}",
+        files.len(),
+        summary.shape.name(),
+        summary.ensembles.len(),
+        figures.len(),
+        args.out.display()
+    );
+    for e in &summary.ensembles {
+        let j = e.pressure.as_ref().and_then(|p| p.janssen);
+        println!(
+            "  phi0 = {:.3}: {} deposits, phi_f = {:.3} +- {:.3}, g(1) = {:.2} +- {:.2}, S4 = {:.3}{}",
+            e.phi0,
+            e.n_realisations,
+            e.rdf.packing_fraction.mean,
+            e.rdf.packing_fraction.stderr,
+            e.rdf.g_at_1.mean,
+            e.rdf.g_at_1.stderr,
+            e.orientation.s4.mean,
+            match j {
+                Some(j) => format!(
+                    ", Janssen lambda/W = {:.3}, P_sat = {:.4} N/m",
+                    j.lambda_over_w, j.p_sat
+                ),
+                None => String::new(),
+            }
+        );
+    }
+    Ok(())
+}
+
+fn absolute(p: &Path) -> String {
+    std::fs::canonicalize(p)
+        .unwrap_or_else(|_| p.to_path_buf())
+        .display()
+        .to_string()
+}

@@ -1,0 +1,12 @@
+//! Figures (PNG, plotters with an embedded font) with their numbers in CSV files beside them.
+
+mod chart;
+mod deposit_picture;
+mod figures;
+mod font;
+mod png;
+
+pub use chart::{Chart, Kind, Series, write_chart};
+pub use deposit_picture::draw_deposit;
+pub use figures::write_figures;
+pub use font::ensure_font;
