@@ -23,8 +23,8 @@ impl World {
         self.prime()?;
         let dt = self.dt;
         self.kick(dt / 2.0, dt);
-        self.update_neighbours()?;
         self.place_cores();
+        self.update_neighbours()?;
         self.compute_forces();
         self.kick(dt / 2.0, 0.0);
         self.time += dt;
@@ -43,8 +43,8 @@ impl World {
             });
         }
         if !self.forces_ready {
-            self.update_neighbours()?;
             self.place_cores();
+            self.update_neighbours()?;
             self.compute_forces();
             self.forces_ready = true;
         }
@@ -78,11 +78,16 @@ impl World {
             });
     }
 
+    /// Broad phase: rebuilds the Verlet lists when some vertex may have moved half the skin.
+    /// Expects the cores placed at the current positions.
     fn update_neighbours(&mut self) -> Result<(), SimError> {
-        if !self.verlet.is_stale(&self.grains.position, self.skin) {
+        let g = &self.grains;
+        if !self
+            .verlet
+            .is_stale(&g.position, &g.angle, &self.arm, self.skin)
+        {
             return Ok(());
         }
-        let g = &self.grains;
         if let Some(i) = (0..g.len()).find(|&i| {
             !(g.position[i].x.is_finite()
                 && g.position[i].y.is_finite()
@@ -98,13 +103,31 @@ impl World {
         }
         let old_pairs = std::mem::take(&mut self.verlet.pairs);
         let old_wall_pairs = std::mem::take(&mut self.verlet.wall_pairs);
-        self.verlet.rebuild(
-            &g.position,
-            &self.reach,
-            &self.mobile,
-            &self.walls,
-            self.skin,
-        );
+        let mut verlet = std::mem::take(&mut self.verlet);
+        let half_skin = self.skin / 2.0;
+        {
+            let this = &*self;
+            // Outlines within the skin: sub-contacts of cores grown by half the skin each.
+            let near = |i: usize, j: usize| {
+                let (mut a, mut b) = (this.placed(i), this.placed(j));
+                a.radius += half_skin;
+                b.radius += half_skin;
+                let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                core_core_sub_contacts(&a, &b, &[], &mut found);
+                !found.is_empty()
+            };
+            let g = &this.grains;
+            verlet.rebuild(
+                &g.position,
+                &g.angle,
+                &this.reach,
+                &this.mobile,
+                &this.walls,
+                this.skin,
+                near,
+            );
+        }
+        self.verlet = verlet;
         self.switching_dropped +=
             dropped_switching(&old_pairs, &self.pair_contacts, &self.verlet.pairs)
                 + dropped_switching(
@@ -118,8 +141,9 @@ impl World {
             &mut self.wall_contacts,
             &self.verlet.wall_pairs,
         );
-        self.pair_incidence = Incidence::build(g.len(), &self.verlet.pairs, true);
-        self.wall_incidence = Incidence::build(g.len(), &self.verlet.wall_pairs, false);
+        let n = self.grains.len();
+        self.pair_incidence = Incidence::build(n, &self.verlet.pairs, true);
+        self.wall_incidence = Incidence::build(n, &self.verlet.wall_pairs, false);
         Ok(())
     }
 
@@ -170,6 +194,8 @@ impl World {
             directions: &self.placed_directions[a..b],
             lengths: shape.edge_lengths(),
             radius: shape.radius(),
+            centre: self.grains.position[i],
+            arm: self.arm[i],
         }
     }
 

@@ -80,6 +80,8 @@ pub struct World {
     pub(crate) placed_vertices: Vec<Vec2>,
     pub(crate) placed_directions: Vec<Vec2>,
     pub(crate) reach: Vec<f64>,
+    /// Distance of the farthest core vertex from the centre.
+    pub(crate) arm: Vec<f64>,
     pub(crate) mobile: Vec<bool>,
     pub(crate) skin: f64,
     pub(crate) verlet: VerletList,
@@ -135,6 +137,7 @@ impl World {
             placed_vertices: Vec::new(),
             placed_directions: Vec::new(),
             reach: Vec::new(),
+            arm: Vec::new(),
             mobile: Vec::new(),
             skin: f64::INFINITY,
             verlet: VerletList::default(),
@@ -243,6 +246,8 @@ impl World {
         self.placed_directions
             .extend(std::iter::repeat_n(Vec2::zeros(), n as usize));
         self.reach.push(entry.shape.bounding_radius());
+        self.arm
+            .push(entry.shape.bounding_radius() - entry.shape.radius());
         self.mobile.push(mobile);
         Ok(GrainId(self.grains.len() - 1))
     }

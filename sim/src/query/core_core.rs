@@ -128,6 +128,11 @@ fn vertex_against_core(
     mut emit: impl FnMut(Touch),
 ) {
     let p = owner.vertices[k];
+    // Farther from the other core's centre than its farthest vertex plus the cutoff: no touch.
+    let reach = core.arm + cutoff;
+    if (p - core.centre).norm_squared() >= reach * reach {
+        return;
+    }
     let n = core.len();
 
     // Signed distance from each edge line. The distance to a convex core is at least the
@@ -215,6 +220,8 @@ mod tests {
         directions: Vec<Vec2>,
         lengths: Vec<f64>,
         radius: f64,
+        centre: Vec2,
+        arm: f64,
     }
 
     impl Placed {
@@ -233,6 +240,8 @@ mod tests {
                     .collect(),
                 lengths: shape.edge_lengths().to_vec(),
                 radius: shape.radius(),
+                centre,
+                arm: shape.bounding_radius() - shape.radius(),
             }
         }
         fn core(&self) -> PlacedCore<'_> {
@@ -241,6 +250,8 @@ mod tests {
                 directions: &self.directions,
                 lengths: &self.lengths,
                 radius: self.radius,
+                centre: self.centre,
+                arm: self.arm,
             }
         }
     }

@@ -9,6 +9,9 @@ pub struct PlacedCore<'a> {
     pub directions: &'a [Vec2],
     pub lengths: &'a [f64],
     pub radius: f64,
+    /// Centre of the grain and distance of its farthest core vertex from it.
+    pub centre: Vec2,
+    pub arm: f64,
 }
 
 impl PlacedCore<'_> {
