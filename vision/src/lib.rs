@@ -5,5 +5,8 @@
 //! photograph, y upward; image row 0 is the top (y = (rows - row - 0.5) / scale).
 
 mod grain;
+mod outline;
+pub mod packing;
 
 pub use grain::{Frame, GrainOutline, GrainShape};
+pub use outline::ROUNDING_FRACTION;
