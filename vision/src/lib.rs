@@ -7,6 +7,7 @@
 mod grain;
 mod outline;
 pub mod packing;
+pub mod render;
 
 pub use grain::{Frame, GrainOutline, GrainShape};
 pub use outline::ROUNDING_FRACTION;

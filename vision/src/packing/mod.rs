@@ -25,6 +25,8 @@ pub const OVERLAP_TOLERANCE: f64 = 0.003;
 /// for the strict tolerance at every step jams the packing early in chains of contacts that
 /// Gauss-Seidel sweeps straighten only slowly. The final relaxation meets the strict one.
 const SQUEEZE_TOLERANCE: f64 = 0.04;
+/// Random shift (fraction of D, full range) given to every grain at each squeeze step.
+const JITTER: f64 = 0.1;
 
 /// How the grains were laid down.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -103,7 +105,7 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
     };
     relax(&mut bodies, &domain, &settle);
     let squeeze = Relax {
-        max_sweeps: 30,
+        max_sweeps: 20,
         tolerance: SQUEEZE_TOLERANCE * width,
         rotation_mobility,
     };
@@ -118,6 +120,9 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
         for b in bodies.iter_mut() {
             b.x *= factor;
             b.y *= factor;
+            // A shake: chains of contacts buckle and grains find the voids.
+            b.x += JITTER * width * (rng.random::<f64>() - 0.5);
+            b.y += JITTER * width * (rng.random::<f64>() - 0.5);
         }
         domain.width *= factor;
         domain.height *= factor;
