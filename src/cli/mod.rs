@@ -2,6 +2,7 @@
 
 mod bench;
 mod drop;
+mod render;
 
 use clap::{Parser, Subcommand};
 
@@ -20,6 +21,9 @@ pub struct Cli {
 pub enum Command {
     /// Drop one grain onto a floor or a resting grain and report the collision.
     Drop(drop::Args),
+    /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
+    /// packing), with its ground-truth table beside it.
+    Render(render::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -28,6 +32,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Drop(args) => drop::run(args),
+        Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

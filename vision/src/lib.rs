@@ -4,6 +4,8 @@
 //! Coordinates are SI (metres) in the frame: origin at the bottom-left corner of the
 //! photograph, y upward; image row 0 is the top (y = (rows - row - 0.5) / scale).
 
+pub mod detect;
+pub mod evaluate;
 mod grain;
 mod outline;
 pub mod packing;
