@@ -76,7 +76,10 @@ impl GrainOutline {
         let r = ROUNDING_FRACTION * self.shape.width();
         let qx = lx.abs() - (a - r);
         let qy = ly.abs() - (b - r);
-        let outside = qx.max(0.0).hypot(qy.max(0.0));
+        // sqrt rather than hypot: no overflow at these sizes, and the renderer calls this per
+        // pixel.
+        let (ox, oy) = (qx.max(0.0), qy.max(0.0));
+        let outside = (ox * ox + oy * oy).sqrt();
         outside + qx.max(qy).min(0.0) - r
     }
 

@@ -24,22 +24,33 @@ pub struct Contact {
     pub point: [f64; 2],
 }
 
-impl Body {
-    fn axes(&self) -> ([f64; 2], [f64; 2]) {
-        let (s, c) = self.theta.sin_cos();
-        ([c, s], [-s, c])
+/// A body with its axes worked out once (the separating-axis test uses them many times).
+struct Frame2 {
+    u: [f64; 2],
+    v: [f64; 2],
+    a: f64,
+    b: f64,
+}
+
+impl Frame2 {
+    fn of(body: &Body) -> Self {
+        let (s, c) = body.theta.sin_cos();
+        Frame2 {
+            u: [c, s],
+            v: [-s, c],
+            a: body.half_length,
+            b: body.half_width,
+        }
     }
 
     /// Half the extent of the rectangle projected on a unit axis.
     fn radius_along(&self, axis: [f64; 2]) -> f64 {
-        let (u, v) = self.axes();
-        self.half_length * dot(u, axis).abs() + self.half_width * dot(v, axis).abs()
+        self.a * dot(self.u, axis).abs() + self.b * dot(self.v, axis).abs()
     }
 
     /// Corners relative to the centre.
     fn corners(&self) -> [[f64; 2]; 4] {
-        let (u, v) = self.axes();
-        let (a, b) = (self.half_length, self.half_width);
+        let (u, v, a, b) = (self.u, self.v, self.a, self.b);
         [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)]
             .map(|(s, t)| [s * a * u[0] + t * b * v[0], s * a * u[1] + t * b * v[1]])
     }
@@ -52,8 +63,9 @@ fn dot(a: [f64; 2], b: [f64; 2]) -> f64 {
 /// Overlap of `a` and `b`, where `b`'s centre sits at offset `d` from `a`'s (the caller applies
 /// the periodic minimum image). `None` when they do not overlap.
 pub fn contact(a: &Body, b: &Body, d: [f64; 2]) -> Option<Contact> {
-    let (ua, va) = a.axes();
-    let (ub, vb) = b.axes();
+    let (a, b) = (Frame2::of(a), Frame2::of(b));
+    let (ua, va) = (a.u, a.v);
+    let (ub, vb) = (b.u, b.v);
     let mut best: Option<(f64, [f64; 2], bool)> = None;
     for (axis, of_a) in [(ua, true), (va, true), (ub, false), (vb, false)] {
         let separation = dot(d, axis);

@@ -105,7 +105,7 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
     };
     relax(&mut bodies, &domain, &settle);
     let squeeze = Relax {
-        max_sweeps: 20,
+        max_sweeps: 80,
         tolerance: SQUEEZE_TOLERANCE * width,
         rotation_mobility,
     };

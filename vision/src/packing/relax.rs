@@ -79,10 +79,42 @@ pub fn relax(bodies: &mut [Body], domain: &Box2, settings: &Relax) -> (f64, bool
         .iter()
         .map(|b| 2.0 * b.half_length.hypot(b.half_width))
         .fold(0.0, f64::max);
+    // Verlet list: pairs whose bounding circles come within `skin` of each other, kept until
+    // some body has moved half the skin (then a pair outside the list could have met).
+    let skin = 0.1 * reach;
     let mut deepest = f64::INFINITY;
+    let mut listed: Vec<(u32, u32)> = Vec::new();
+    let mut anchors: Vec<[f64; 2]> = Vec::new();
     for _ in 0..settings.max_sweeps {
-        let cells = Cells::build(bodies, domain, reach);
-        deepest = sweep(bodies, domain, &cells.pairs(), settings.rotation_mobility);
+        let moved = bodies
+            .iter()
+            .zip(&anchors)
+            .map(|(b, a)| {
+                let mut dx = b.x - a[0];
+                let mut dy = b.y - a[1];
+                dx -= domain.width * (dx / domain.width).round();
+                dy -= domain.height * (dy / domain.height).round();
+                dx * dx + dy * dy
+            })
+            .fold(0.0, f64::max)
+            .sqrt();
+        if anchors.is_empty() || 2.0 * moved > skin {
+            let cells = Cells::build(bodies, domain, reach + skin);
+            listed = cells
+                .pairs()
+                .into_iter()
+                .filter(|&(i, j)| {
+                    let (a, b) = (&bodies[i as usize], &bodies[j as usize]);
+                    let d = min_image(a, b, domain);
+                    let bound = a.half_length.hypot(a.half_width)
+                        + b.half_length.hypot(b.half_width)
+                        + skin;
+                    d[0] * d[0] + d[1] * d[1] < bound * bound
+                })
+                .collect();
+            anchors = bodies.iter().map(|b| [b.x, b.y]).collect();
+        }
+        deepest = sweep(bodies, domain, &listed, settings.rotation_mobility);
         for b in bodies.iter_mut() {
             b.x = b.x.rem_euclid(domain.width);
             b.y = b.y.rem_euclid(domain.height);

@@ -58,7 +58,10 @@ impl Mark {
                 y,
                 radius,
                 opacity,
-            } => ((px - x).hypot(py - y) - radius, opacity),
+            } => (
+                ((px - x).powi(2) + (py - y).powi(2)).sqrt() - radius,
+                opacity,
+            ),
             Mark::Scratch {
                 x0,
                 y0,
@@ -70,7 +73,7 @@ impl Mark {
                 let (dx, dy) = (x1 - x0, y1 - y0);
                 let t = (((px - x0) * dx + (py - y0) * dy) / (dx * dx + dy * dy)).clamp(0.0, 1.0);
                 (
-                    (px - x0 - t * dx).hypot(py - y0 - t * dy) - half_width,
+                    ((px - x0 - t * dx).powi(2) + (py - y0 - t * dy).powi(2)).sqrt() - half_width,
                     opacity,
                 )
             }

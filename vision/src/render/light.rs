@@ -44,18 +44,23 @@ pub fn standard_normal<R: Rng>(rng: &mut R) -> f64 {
     (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
 }
 
-/// The level a sensor reads for a true level: shot noise from `full_well` electrons at full
-/// scale, plus read noise.
-pub fn sensor<R: Rng>(level: f64, style: &Style, rng: &mut R) -> f64 {
+/// Two independent draws of the standard normal distribution (both halves of Box-Muller, in
+/// f32: the sensor noise needs neither more precision nor the cost).
+pub fn standard_normal_pair<R: Rng>(rng: &mut R) -> (f32, f32) {
+    let u1: f32 = 1.0 - rng.random::<f32>();
+    let u2: f32 = rng.random::<f32>();
+    let radius = (-2.0 * u1.ln()).sqrt();
+    let (s, c) = (std::f32::consts::TAU * u2).sin_cos();
+    (radius * c, radius * s)
+}
+
+/// Standard deviation of the sensor reading at a true level: shot noise from `full_well`
+/// electrons at full scale, plus read noise.
+pub fn sensor_sigma(level: f32, style: &Style) -> f32 {
     let shot = if style.full_well > 0.0 {
-        (level.max(0.0) / style.full_well).sqrt()
+        level.max(0.0) / style.full_well as f32
     } else {
         0.0
     };
-    let sigma = shot.hypot(style.read_noise);
-    if sigma > 0.0 {
-        level + sigma * standard_normal(rng)
-    } else {
-        level
-    }
+    (shot + (style.read_noise * style.read_noise) as f32).sqrt()
 }

@@ -73,6 +73,8 @@ struct Stamp {
     /// Peak of the axis highlight (rods), and its standard deviation across the axis (metres).
     highlight: f64,
     highlight_sigma: f64,
+    /// Squared distance from the centre beyond which the grain covers nothing of a pixel.
+    reach_squared: f64,
 }
 
 /// Draws the grains in `frame` as `style` asks. The same grains, frame, style and seed give the
@@ -102,6 +104,7 @@ pub fn render(grains: &[GrainOutline], frame: &Frame, style: &Style, seed: u64) 
                 GrainShape::Square { .. } => 0.0,
             },
             highlight_sigma: style.rod_highlight_width * g.shape.width(),
+            reach_squared: (g.shape.bounding_radius() + 1.0 / frame.scale).powi(2),
         })
         .collect();
     let tiles_x = columns.div_ceil(TILE).max(1);
@@ -152,10 +155,15 @@ pub fn render(grains: &[GrainOutline], frame: &Frame, style: &Style, seed: u64) 
         .for_each(|(row, out)| {
             let mut rng = ChaCha8Rng::seed_from_u64(noise_seed);
             rng.set_stream(row as u64);
-            for (column, v) in out.iter_mut().enumerate() {
-                let field = backlight.at(column as f64 + 0.5, row as f64 + 0.5);
-                let level = style.black_level + field * f64::from(*v);
-                *v = light::sensor(level, style, &mut rng).clamp(0.0, 1.0) as f32;
+            for (pair, vs) in out.chunks_mut(2).enumerate() {
+                let noise = light::standard_normal_pair(&mut rng);
+                for (k, v) in vs.iter_mut().enumerate() {
+                    let column = 2 * pair + k;
+                    let field = backlight.at(column as f64 + 0.5, row as f64 + 0.5) as f32;
+                    let level = style.black_level as f32 + field * *v;
+                    let normal = if k == 0 { noise.0 } else { noise.1 };
+                    *v = (level + light::sensor_sigma(level, style) * normal).clamp(0.0, 1.0);
+                }
             }
         });
     Photograph {
@@ -169,6 +177,9 @@ pub fn render(grains: &[GrainOutline], frame: &Frame, style: &Style, seed: u64) 
 /// hole open and the axis highlight taken off.
 fn grain_blocking(s: &Stamp, x: f64, y: f64, scale: f64) -> f64 {
     let (dx, dy) = (x - s.outline.x, y - s.outline.y);
+    if dx * dx + dy * dy > s.reach_squared {
+        return 0.0;
+    }
     let (u, v) = s.axes;
     let (lx, ly) = (dx * u[0] + dy * u[1], dx * v[0] + dy * v[1]);
     let distance = s.outline.local_signed_distance(lx, ly);
@@ -177,7 +188,7 @@ fn grain_blocking(s: &Stamp, x: f64, y: f64, scale: f64) -> f64 {
         return 0.0;
     }
     if s.hole_radius > 0.0 {
-        let hole = (0.5 - (lx.hypot(ly) - s.hole_radius) * scale).clamp(0.0, 1.0);
+        let hole = (0.5 - ((lx * lx + ly * ly).sqrt() - s.hole_radius) * scale).clamp(0.0, 1.0);
         coverage = (coverage - hole).max(0.0);
     }
     if s.highlight > 0.0 {
