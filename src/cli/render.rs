@@ -152,6 +152,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         (None, None) => bail!("give a deposit table or --generate"),
     };
+    if outlines.is_empty() {
+        eprintln!("warning: no grain of the deposit shows in the frame; the photograph is empty");
+    }
     let photo = render(&outlines, &frame, &style, args.seed).to_image(args.bits);
     write_atomic(&args.out, |w| {
         photo.write_to(w, ImageFormat::Png)?;

@@ -52,6 +52,8 @@ pub struct Outcome {
     pub tally: Tally,
     /// Wall time of the detector alone (seconds).
     pub detect_seconds: f64,
+    /// Wall time of rendering the photograph (seconds).
+    pub render_seconds: f64,
 }
 
 /// The true grains of a packing as a photograph of `frame` shows them.
@@ -75,7 +77,9 @@ pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectErro
         scale: case.px_per_mm * 1e3,
     };
     let style = Style::named(case.style_name).unwrap_or_else(Style::lab);
+    let start = Instant::now();
     let photo = render(&packed.grains, &frame, &style, case.seed).to_image(16);
+    let render_seconds = start.elapsed().as_secs_f64();
     // The detector's parameters have more (defaulted) fields than the two set here.
     #[allow(clippy::needless_update)]
     let params = DetectParams {
@@ -89,5 +93,6 @@ pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectErro
     Ok(Outcome {
         tally: score(&truth_in_frame(packed, &frame), &detections),
         detect_seconds,
+        render_seconds,
     })
 }

@@ -13,6 +13,7 @@ pub struct Backlight {
     pub direction: [f64; 2],
     pub columns: f64,
     pub rows: f64,
+    half_diagonal: f64,
 }
 
 impl Backlight {
@@ -24,13 +25,14 @@ impl Backlight {
             direction: [angle.cos(), angle.sin()],
             columns: columns as f64,
             rows: rows as f64,
+            half_diagonal: 0.5 * f64::from(columns).hypot(f64::from(rows)),
         }
     }
 
     /// Field level at a continuous pixel position.
     pub fn at(&self, column: f64, row: f64) -> f64 {
         let (dx, dy) = (column - 0.5 * self.columns, row - 0.5 * self.rows);
-        let half_diagonal = 0.5 * self.columns.hypot(self.rows);
+        let half_diagonal = self.half_diagonal;
         let radial = (dx * dx + dy * dy) / (half_diagonal * half_diagonal);
         let along = (dx * self.direction[0] + dy * self.direction[1]) / (2.0 * half_diagonal);
         self.level * (1.0 - self.vignetting * radial) * (1.0 + self.gradient * along)
