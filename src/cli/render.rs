@@ -143,9 +143,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             };
             let packed = generate(shape, args.packing, &frame, args.seed);
             eprintln!(
-                "generated packing: fraction {:.3}, deepest overlap {:.2} % of D",
+                "generated packing: fraction {:.3}, deepest overlap {:.2} % of D, {:.1} % of grains touching a neighbour",
                 packed.packing_fraction,
-                100.0 * packed.max_overlap
+                100.0 * packed.max_overlap,
+                100.0 * packed.touching_fraction
             );
             let truth = deposit_of(&packed.grains, &frame);
             (packed.grains, truth, frame)

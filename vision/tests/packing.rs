@@ -30,6 +30,13 @@ fn rods_pack_densely_without_overlaps() {
         // overlap of 1 % of D (0.03 mm, a third of a pixel at 10 px/mm) is the most a
         // photograph of touching grains may hide.
         assert!(p.max_overlap < 0.01, "{packing:?}: {}", p.max_overlap);
+        // Touching, not scattered: nearly every grain presses on a neighbour (gap < 1 % of D);
+        // only a few rattlers sit loose in their cages.
+        assert!(
+            p.touching_fraction > 0.9,
+            "{packing:?}: {}",
+            p.touching_fraction
+        );
         // Grains cut by the frame edges are part of the packing.
         assert!(p.grains.iter().any(|g| g.is_cut_by(&frame())));
     }

@@ -17,7 +17,7 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::{Frame, GrainOutline, GrainShape};
 use contact::Body;
-use relax::{Box2, Relax, deepest_overlap, relax};
+use relax::{Box2, Relax, deepest_overlap, relax, touching_fraction};
 
 /// Relaxation stops once the deepest overlap is below this fraction of the grain width D.
 pub const OVERLAP_TOLERANCE: f64 = 0.003;
@@ -60,6 +60,9 @@ pub struct PackedFrame {
     pub packing_fraction: f64,
     /// Deepest overlap between two grains, as a fraction of D.
     pub max_overlap: f64,
+    /// Fraction of grains that touch a neighbour (a gap under 1 % of D); the rest are
+    /// rattlers, free in a cage of jammed neighbours.
+    pub touching_fraction: f64,
 }
 
 /// Fraction of grains in an ordered packing that fall at a random angle.
@@ -156,7 +159,9 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
     }
     let max_overlap = deepest_overlap(&bodies, &domain) / width;
     let packing_fraction = count as f64 * grain_area / (domain.width * domain.height);
+    let touching_fraction = touching_fraction(&bodies, &domain, 0.01 * width);
     PackedFrame {
+        touching_fraction,
         grains: cut_to_frame(&bodies, &domain, shape, frame),
         packing_fraction,
         max_overlap,

@@ -143,6 +143,32 @@ pub fn deepest_overlap(bodies: &[Body], domain: &Box2) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Fraction of bodies that touch another: whose outlines, grown by `gap` on every side, overlap
+/// a neighbour's.
+pub fn touching_fraction(bodies: &[Body], domain: &Box2, gap: f64) -> f64 {
+    let grown: Vec<Body> = bodies
+        .iter()
+        .map(|b| Body {
+            half_length: b.half_length + 0.5 * gap,
+            half_width: b.half_width + 0.5 * gap,
+            ..*b
+        })
+        .collect();
+    let reach = grown
+        .iter()
+        .map(|b| 2.0 * b.half_length.hypot(b.half_width))
+        .fold(0.0, f64::max);
+    let mut touching = vec![false; bodies.len()];
+    for (i, j) in Cells::build(&grown, domain, reach).pairs() {
+        let (a, b) = (&grown[i as usize], &grown[j as usize]);
+        if contact(a, b, min_image(a, b, domain)).is_some() {
+            touching[i as usize] = true;
+            touching[j as usize] = true;
+        }
+    }
+    touching.iter().filter(|&&t| t).count() as f64 / bodies.len().max(1) as f64
+}
+
 fn min_image(a: &Body, b: &Body, domain: &Box2) -> [f64; 2] {
     let mut dx = b.x - a.x;
     let mut dy = b.y - a.y;
