@@ -89,12 +89,11 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
         height: (frame.height + margin) * stretch,
     };
     let mut bodies: Vec<Body> = (0..count)
-        .map(|_| Body {
-            x: rng.random::<f64>() * domain.width,
-            y: rng.random::<f64>() * domain.height,
-            theta: initial_angle(shape, packing, &mut rng),
-            half_length: 0.5 * length,
-            half_width: 0.5 * width,
+        .map(|_| {
+            let x = rng.random::<f64>() * domain.width;
+            let y = rng.random::<f64>() * domain.height;
+            let theta = initial_angle(shape, packing, &mut rng);
+            Body::new(x, y, theta, 0.5 * length, 0.5 * width)
         })
         .collect();
     let rotation_mobility = match packing {

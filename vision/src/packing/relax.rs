@@ -118,6 +118,7 @@ pub fn relax(bodies: &mut [Body], domain: &Box2, settings: &Relax) -> (f64, bool
         for b in bodies.iter_mut() {
             b.x = b.x.rem_euclid(domain.width);
             b.y = b.y.rem_euclid(domain.height);
+            b.resync();
         }
         if deepest < settings.tolerance {
             return (deepest, true);
@@ -169,12 +170,23 @@ pub fn touching_fraction(bodies: &[Body], domain: &Box2, gap: f64) -> f64 {
     touching.iter().filter(|&&t| t).count() as f64 / bodies.len().max(1) as f64
 }
 
+/// Offset from `a` to the nearest image of `b`; positions are kept inside the box, so one
+/// period at most separates them.
 fn min_image(a: &Body, b: &Body, domain: &Box2) -> [f64; 2] {
-    let mut dx = b.x - a.x;
-    let mut dy = b.y - a.y;
-    dx -= domain.width * (dx / domain.width).round();
-    dy -= domain.height * (dy / domain.height).round();
-    [dx, dy]
+    [
+        wrap(b.x - a.x, domain.width),
+        wrap(b.y - a.y, domain.height),
+    ]
+}
+
+fn wrap(d: f64, period: f64) -> f64 {
+    if d > 0.5 * period {
+        d - period
+    } else if d < -0.5 * period {
+        d + period
+    } else {
+        d
+    }
 }
 
 fn sweep(bodies: &mut [Body], domain: &Box2, pairs: &[(u32, u32)], rotation: f64) -> f64 {
@@ -183,7 +195,9 @@ fn sweep(bodies: &mut [Body], domain: &Box2, pairs: &[(u32, u32)], rotation: f64
         let (i, j) = (i as usize, j as usize);
         let (a, b) = (bodies[i], bodies[j]);
         let d = min_image(&a, &b, domain);
-        let bound = a.half_length.hypot(a.half_width) + b.half_length.hypot(b.half_width);
+        // sqrt, not hypot: this runs for every listed pair of every sweep.
+        let bound = (a.half_length * a.half_length + a.half_width * a.half_width).sqrt()
+            + (b.half_length * b.half_length + b.half_width * b.half_width).sqrt();
         if d[0] * d[0] + d[1] * d[1] >= bound * bound {
             continue;
         }
@@ -205,10 +219,10 @@ fn sweep(bodies: &mut [Body], domain: &Box2, pairs: &[(u32, u32)], rotation: f64
         let impulse = OVER_RELAXATION * c.depth / (wa + wb);
         bodies[i].x -= n[0] * impulse / ma;
         bodies[i].y -= n[1] * impulse / ma;
-        bodies[i].theta -= rotation * ra_n * impulse / ia;
+        bodies[i].turn(-rotation * ra_n * impulse / ia);
         bodies[j].x += n[0] * impulse / mb;
         bodies[j].y += n[1] * impulse / mb;
-        bodies[j].theta += rotation * rb_n * impulse / ib;
+        bodies[j].turn(rotation * rb_n * impulse / ib);
     }
     deepest
 }
