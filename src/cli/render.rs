@@ -50,7 +50,7 @@ pub struct Args {
 
     /// Region photographed, x0,y0,width,height in mm of the deposit's coordinates (bottom-left
     /// corner and size). Default: around all grains of a deposit; 0,0,258,120 for a generated
-    /// packing.
+    /// packing (whose position does not matter: only width and height count).
     #[arg(long, value_parser = parse_frame)]
     frame: Option<[f64; 4]>,
 
