@@ -97,7 +97,7 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
         })
         .collect();
     let rotation_mobility = match packing {
-        Packing::Ordered => 0.15,
+        Packing::Ordered => 0.05,
         Packing::Disordered => 1.0,
     };
     let settle = Relax {
