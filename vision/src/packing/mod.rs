@@ -9,6 +9,7 @@
 
 mod contact;
 mod relax;
+mod scatter;
 
 use std::f64::consts::PI;
 
@@ -82,20 +83,16 @@ pub fn generate(shape: GrainShape, packing: Packing, frame: &Frame, seed: u64) -
     let target_area = (frame.width + margin) * (frame.height + margin);
     let grain_area = length * width;
     let count = (target_area * 0.9 / grain_area).ceil() as usize;
-    let start_fraction = 0.5;
+    // Random sequential addition of these grains saturates near 0.5; start a little below.
+    let start_fraction = 0.4;
     let stretch = (count as f64 * grain_area / start_fraction / target_area).sqrt();
     let mut domain = Box2 {
         width: (frame.width + margin) * stretch,
         height: (frame.height + margin) * stretch,
     };
-    let mut bodies: Vec<Body> = (0..count)
-        .map(|_| {
-            let x = rng.random::<f64>() * domain.width;
-            let y = rng.random::<f64>() * domain.height;
-            let theta = initial_angle(shape, packing, &mut rng);
-            Body::new(x, y, theta, 0.5 * length, 0.5 * width)
-        })
-        .collect();
+    let mut bodies = scatter::scatter(count, &domain, 0.5 * length, 0.5 * width, &mut rng, |rng| {
+        initial_angle(shape, packing, rng)
+    });
     let rotation_mobility = match packing {
         Packing::Ordered => 0.05,
         Packing::Disordered => 1.0,

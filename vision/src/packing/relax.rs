@@ -172,7 +172,7 @@ pub fn touching_fraction(bodies: &[Body], domain: &Box2, gap: f64) -> f64 {
 
 /// Offset from `a` to the nearest image of `b`; positions are kept inside the box, so one
 /// period at most separates them.
-fn min_image(a: &Body, b: &Body, domain: &Box2) -> [f64; 2] {
+pub fn min_image(a: &Body, b: &Body, domain: &Box2) -> [f64; 2] {
     [
         wrap(b.x - a.x, domain.width),
         wrap(b.y - a.y, domain.height),
