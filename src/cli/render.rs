@@ -13,8 +13,8 @@ use facets::deposit::{read_deposit_csv, write_deposit_csv};
 use facets::io::write_atomic;
 use facets::photo::{Region, deposit_of, frame_deposit};
 
-/// Largest photograph rendered, in pixels (about 1 GB of working memory).
-const MAX_PIXELS: f64 = 250e6;
+/// Largest photograph rendered, in pixels (about 10 bytes a pixel of working memory: 1 GB).
+const MAX_PIXELS: f64 = 100e6;
 
 #[derive(Debug, ClapArgs)]
 #[command(
