@@ -35,6 +35,10 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_value = "clean,lab,hard", value_parser = ["clean", "lab", "hard"])]
     styles: Vec<String>,
 
+    /// Grains to benchmark (comma separated, among square, rod53, rod3).
+    #[arg(long, value_delimiter = ',', default_value = "square,rod53,rod3", value_parser = ["square", "rod53", "rod3"])]
+    shapes: Vec<String>,
+
     /// Seed of the packings and photographs.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -73,7 +77,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (Packing::Ordered, "ordered"),
         (Packing::Disordered, "disordered"),
     ];
-    let total = shapes().len() * packings.len() * args.px_per_mm.len() * styles.len();
+    let chosen: Vec<_> = shapes()
+        .into_iter()
+        .filter(|(name, _)| args.shapes.iter().any(|s| s == name))
+        .collect();
+    let total = chosen.len() * packings.len() * args.px_per_mm.len() * styles.len();
     let bar = ProgressBar::new(total as u64).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} photographs, {elapsed} {msg}")
             .expect("valid template"),
@@ -87,7 +95,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut packings_table = String::from(
         "| shape | packing | grains in frame | packing fraction | deepest overlap (of D) | touching a neighbour | generation s |\n|---|---|---|---|---|---|---|\n",
     );
-    for (shape_name, shape) in shapes() {
+    for (shape_name, shape) in chosen {
         let mut pooled: Vec<Row> = Vec::new();
         for (pi, &(packing, packing_name)) in packings.iter().enumerate() {
             bar.set_message(format!("packing {shape_name} {packing_name}"));
