@@ -47,3 +47,27 @@ pub fn gaussian(pixels: &mut [f32], width: usize, height: usize, sigma: f64) {
             }
         });
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn blur_keeps_light_and_spreads_it_by_sigma() {
+        // One bright pixel in the middle of a dark 41 x 41 image.
+        let (w, h) = (41, 41);
+        let mut img = vec![0.0f32; w * h];
+        img[20 * w + 20] = 1.0;
+        let sigma = 1.5;
+        gaussian(&mut img, w, h, sigma);
+        let total: f32 = img.iter().sum();
+        assert!((total - 1.0).abs() < 1e-5, "{total}");
+        // Second moment along x of the spread spot is sigma^2.
+        let var: f64 = img
+            .iter()
+            .enumerate()
+            .map(|(i, v)| f64::from(*v) * ((i % w) as f64 - 20.0).powi(2))
+            .sum();
+        assert!((var - sigma * sigma).abs() < 0.05 * sigma * sigma, "{var}");
+    }
+}
