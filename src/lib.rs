@@ -10,4 +10,5 @@ pub mod deposit;
 pub mod grains;
 pub mod impact;
 pub mod io;
+pub mod photo;
 pub mod plot;

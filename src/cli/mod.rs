@@ -5,6 +5,7 @@ mod bench;
 mod compare;
 mod drop;
 mod progress;
+mod render;
 
 use clap::{Parser, Subcommand};
 
@@ -26,6 +27,9 @@ pub enum Command {
     // Analyse and Compare take their help (with the list of outputs) from their Args' docs.
     Analyse(analyse::Args),
     Compare(compare::Args),
+    /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
+    /// packing), with its ground-truth table beside it.
+    Render(render::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -36,6 +40,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Drop(args) => drop::run(args),
         Command::Analyse(args) => analyse::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

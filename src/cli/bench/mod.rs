@@ -2,6 +2,7 @@
 
 mod analysis;
 mod engine;
+mod vision;
 
 use clap::Subcommand;
 
@@ -12,11 +13,15 @@ pub enum Bench {
     Analysis(analysis::Args),
     /// DEM engine throughput (grain-steps per second) on settled dense deposits.
     Engine(engine::Args),
+    /// Detector accuracy (recall, precision, centre and orientation RMS) and time per
+    /// photograph on rendered dense packings of every shape, scale and style.
+    Vision(vision::Args),
 }
 
 pub fn run(bench: Bench) -> anyhow::Result<()> {
     match bench {
         Bench::Analysis(args) => analysis::run(args),
         Bench::Engine(args) => engine::run(args),
+        Bench::Vision(args) => vision::run(args),
     }
 }
