@@ -54,8 +54,8 @@ fn missed_and_false_detections_count() {
     let mut detections: Vec<Detection> =
         truth[..90].iter().map(|t| detected(t, 0.0, 0.0)).collect();
     // Five detections far from any grain, and one beyond the gate (D/2 = 1.5 mm) of its grain.
-    for k in 0..5 {
-        detections.push(detected(&truth[k], 0.005, 0.0));
+    for t in &truth[..5] {
+        detections.push(detected(t, 0.005, 0.0));
     }
     detections.push(detected(&truth[95], 1.6e-3, 0.0));
     // A second detection of a found grain is a false one.
