@@ -23,6 +23,11 @@ impl VerletList {
             + (self.pairs.capacity() + self.wall_pairs.capacity()) * 8
     }
 
+    /// Positions and angles at the last rebuild.
+    pub fn reference(&self) -> (&[Vec2], &[f64]) {
+        (&self.reference, &self.reference_angles)
+    }
+
     /// True when some vertex may have moved more than half the skin since the last rebuild
     /// (or a grain has a non-finite position), so a pair could have come within reach unseen.
     /// A vertex at distance `arm[i]` from the centre moves at most |dx| + arm |dtheta|.

@@ -22,11 +22,12 @@ impl World {
     pub fn step(&mut self) -> Result<(), SimError> {
         self.prime()?;
         let dt = self.dt;
-        self.kick(dt / 2.0, dt);
-        self.place_cores();
-        self.update_neighbours()?;
+        let stale = self.kick_drift_place(dt);
+        if stale {
+            self.rebuild_neighbours()?;
+        }
         self.compute_forces();
-        self.kick(dt / 2.0, 0.0);
+        self.kick(dt / 2.0);
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -44,7 +45,7 @@ impl World {
         }
         if !self.forces_ready {
             self.place_cores();
-            self.update_neighbours()?;
+            self.rebuild_neighbours()?;
             self.compute_forces();
             self.forces_ready = true;
         }
@@ -59,35 +60,72 @@ impl World {
         Ok(())
     }
 
-    /// v += a * kick; then x += v * drift.
-    fn kick(&mut self, kick: f64, drift: f64) {
+    /// The second half kick: v += a dt/2.
+    fn kick(&mut self, kick: f64) {
         let g = &mut self.grains;
-        (
+        (&mut g.velocity, &mut g.angular_velocity)
+            .into_par_iter()
+            .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
+            .for_each(|((v, w), (f, t, im, ii))| {
+                *v += f * (im * kick);
+                *w += t * ii * kick;
+            });
+    }
+
+    /// One pass over the grains: first half kick, drift, the cores placed at the new
+    /// positions, and whether some vertex has moved half the Verlet skin since the last
+    /// rebuild (a vertex moves at most |dx| + arm |dtheta|).
+    fn kick_drift_place(&mut self, dt: f64) -> bool {
+        let (stride, skin) = (self.stride, self.skin);
+        if self.grains.is_empty() {
+            return false;
+        }
+        let (reference, reference_angles) = self.verlet.reference();
+        let fresh = reference.len() == self.grains.len();
+        let (shapes, arm) = (&self.shapes, &self.arm);
+        let g = &mut self.grains;
+        let (force, torque, inverse_mass, inverse_inertia, shape) = (
+            &g.force,
+            &g.torque,
+            &g.inverse_mass,
+            &g.inverse_inertia,
+            &g.shape,
+        );
+        let moved_too_far = (
             &mut g.position,
             &mut g.angle,
             &mut g.velocity,
             &mut g.angular_velocity,
+            self.placed_vertices.par_chunks_mut(stride),
+            self.placed_directions.par_chunks_mut(stride),
         )
             .into_par_iter()
-            .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
-            .for_each(|((x, theta, v, w), (f, t, im, ii))| {
-                *v += f * (im * kick);
-                *w += t * ii * kick;
-                *x += *v * drift;
-                *theta += *w * drift;
-            });
+            .enumerate()
+            .map(|(i, (x, theta, v, w, vertices, directions))| {
+                *v += force[i] * (inverse_mass[i] * dt / 2.0);
+                *w += torque[i] * inverse_inertia[i] * dt / 2.0;
+                *x += *v * dt;
+                *theta += *w * dt;
+                let outline = &shapes[shape[i] as usize].shape;
+                let (sin, cos) = theta.sin_cos();
+                for (k, v) in outline.vertices().iter().enumerate() {
+                    vertices[k] = *x + rotate(*v, cos, sin);
+                    directions[k] = rotate(outline.edge_directions()[k], cos, sin);
+                }
+                if !fresh {
+                    return true;
+                }
+                let moved =
+                    (*x - reference[i]).norm() + arm[i] * (*theta - reference_angles[i]).abs();
+                !(moved <= skin / 2.0)
+            })
+            .reduce(|| false, |a, b| a || b);
+        moved_too_far
     }
 
-    /// Broad phase: rebuilds the Verlet lists when some vertex may have moved half the skin.
-    /// Expects the cores placed at the current positions.
-    fn update_neighbours(&mut self) -> Result<(), SimError> {
+    /// Broad phase: rebuilds the Verlet lists from the current, placed, cores.
+    fn rebuild_neighbours(&mut self) -> Result<(), SimError> {
         let g = &self.grains;
-        if !self
-            .verlet
-            .is_stale(&g.position, &g.angle, &self.arm, self.skin)
-        {
-            return Ok(());
-        }
         if let Some(i) = (0..g.len()).find(|&i| {
             !(g.position[i].x.is_finite()
                 && g.position[i].y.is_finite()
@@ -149,46 +187,28 @@ impl World {
 
     /// World-frame vertices and edge directions of every core.
     fn place_cores(&mut self) {
-        let shapes = &self.shapes;
-        let g = &self.grains;
-        let start = &self.vertex_start;
-        // Split the flat arrays into one slice per grain, then fill each in parallel.
-        let mut vertex_slices = Vec::with_capacity(g.len());
-        let mut direction_slices = Vec::with_capacity(g.len());
-        let (mut vs, mut ds) = (
-            &mut self.placed_vertices[..],
-            &mut self.placed_directions[..],
-        );
-        for i in 0..g.len() {
-            let n = (start[i + 1] - start[i]) as usize;
-            let (v, rest_v) = vs.split_at_mut(n);
-            let (d, rest_d) = ds.split_at_mut(n);
-            vertex_slices.push(v);
-            direction_slices.push(d);
-            vs = rest_v;
-            ds = rest_d;
+        if self.grains.is_empty() {
+            return;
         }
-        vertex_slices
-            .into_par_iter()
-            .zip(direction_slices)
+        let (shapes, g) = (&self.shapes, &self.grains);
+        self.placed_vertices
+            .par_chunks_mut(self.stride)
+            .zip(self.placed_directions.par_chunks_mut(self.stride))
             .enumerate()
             .for_each(|(i, (vertices, directions))| {
-                let shape = &shapes[g.shape[i] as usize].shape;
+                let outline = &shapes[g.shape[i] as usize].shape;
                 let (sin, cos) = g.angle[i].sin_cos();
-                let x = g.position[i];
-                for (k, v) in shape.vertices().iter().enumerate() {
-                    vertices[k] = x + rotate(*v, cos, sin);
-                    directions[k] = rotate(shape.edge_directions()[k], cos, sin);
+                for (k, v) in outline.vertices().iter().enumerate() {
+                    vertices[k] = g.position[i] + rotate(*v, cos, sin);
+                    directions[k] = rotate(outline.edge_directions()[k], cos, sin);
                 }
             });
     }
 
     fn placed(&self, i: usize) -> PlacedCore<'_> {
-        let (a, b) = (
-            self.vertex_start[i] as usize,
-            self.vertex_start[i + 1] as usize,
-        );
         let shape = &self.shapes[self.grains.shape[i] as usize].shape;
+        let a = i * self.stride;
+        let b = a + shape.vertices().len();
         PlacedCore {
             vertices: &self.placed_vertices[a..b],
             directions: &self.placed_directions[a..b],

@@ -75,8 +75,8 @@ pub struct World {
     pub(crate) dt: f64,
     pub(crate) time: f64,
     pub(crate) steps: u64,
-    /// First placed vertex of each grain (one more entry than grains).
-    pub(crate) vertex_start: Vec<u32>,
+    /// Slots per grain in the placed arrays: the most core vertices of any shape.
+    pub(crate) stride: usize,
     pub(crate) placed_vertices: Vec<Vec2>,
     pub(crate) placed_directions: Vec<Vec2>,
     pub(crate) reach: Vec<f64>,
@@ -133,7 +133,7 @@ impl World {
             dt: settings.time_step.unwrap_or(f64::INFINITY),
             time: 0.0,
             steps: 0,
-            vertex_start: vec![0],
+            stride: 0,
             placed_vertices: Vec::new(),
             placed_directions: Vec::new(),
             reach: Vec::new(),
@@ -168,6 +168,12 @@ impl World {
         self.skin = self
             .skin
             .min(self.settings.skin_fraction * shape.bounding_radius());
+        if shape.vertices().len() > self.stride {
+            self.stride = shape.vertices().len();
+            let slots = self.grains.len() * self.stride;
+            self.placed_vertices.resize(slots, Vec2::zeros());
+            self.placed_directions.resize(slots, Vec2::zeros());
+        }
         self.shapes.push(ShapeEntry {
             shape,
             mass,
@@ -238,13 +244,10 @@ impl World {
             g.force.push(Vec2::zeros());
         }
         g.torque.push(0.0);
-        let n = entry.shape.vertices().len() as u32;
-        self.vertex_start
-            .push(self.vertex_start.last().unwrap() + n);
         self.placed_vertices
-            .extend(std::iter::repeat_n(Vec2::zeros(), n as usize));
+            .extend(std::iter::repeat_n(Vec2::zeros(), self.stride));
         self.placed_directions
-            .extend(std::iter::repeat_n(Vec2::zeros(), n as usize));
+            .extend(std::iter::repeat_n(Vec2::zeros(), self.stride));
         self.reach.push(entry.shape.bounding_radius());
         self.arm
             .push(entry.shape.bounding_radius() - entry.shape.radius());
@@ -319,8 +322,7 @@ impl World {
             + g.angle.capacity() * (6 * size_of::<f64>())
             + g.shape.capacity() * size_of::<u32>()
             + self.reach.capacity() * size_of::<f64>()
-            + self.mobile.capacity()
-            + self.vertex_start.capacity() * size_of::<u32>();
+            + self.mobile.capacity();
         let placed = (self.placed_vertices.capacity() + self.placed_directions.capacity())
             * size_of::<Vec2>();
         let lists = self.verlet.memory_bytes()
