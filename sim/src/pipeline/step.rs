@@ -91,7 +91,7 @@ impl World {
             &g.inverse_inertia,
             &g.shape,
         );
-        let moved_too_far = (
+        (
             &mut g.position,
             &mut g.angle,
             &mut g.velocity,
@@ -117,10 +117,9 @@ impl World {
                 }
                 let moved =
                     (*x - reference[i]).norm() + arm[i] * (*theta - reference_angles[i]).abs();
-                !(moved <= skin / 2.0)
+                moved > skin / 2.0 || moved.is_nan()
             })
-            .reduce(|| false, |a, b| a || b);
-        moved_too_far
+            .reduce(|| false, |a, b| a || b)
     }
 
     /// Broad phase: rebuilds the Verlet lists from the current, placed, cores.
