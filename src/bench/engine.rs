@@ -115,6 +115,8 @@ pub struct Throughput {
     pub cpu_seconds: f64,
     /// Sub-contacts at the end of the run (a check that the deposit is dense).
     pub contacts: usize,
+    /// Grain pairs in the Verlet list at the end of the run.
+    pub pairs: usize,
 }
 
 /// Runs `steps` steps of a copy of `world` at `time_step` on `threads` threads.
@@ -142,6 +144,7 @@ pub fn measure(
         grain_steps_per_second: (w.len() as f64 * steps as f64) / seconds,
         cpu_seconds,
         contacts: w.contacts().count(),
+        pairs: w.neighbour_pairs().0,
     })
 }
 

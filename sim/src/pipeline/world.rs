@@ -341,6 +341,11 @@ impl World {
         self.steps
     }
 
+    /// Grain pairs and grain-wall pairs in the Verlet lists.
+    pub fn neighbour_pairs(&self) -> (usize, usize) {
+        (self.verlet.pairs.len(), self.verlet.wall_pairs.len())
+    }
+
     pub fn verlet_rebuilds(&self) -> u64 {
         self.verlet.rebuilds
     }

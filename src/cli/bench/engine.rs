@@ -64,9 +64,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     let mut rows = Vec::new();
     println!(
-        "| grains | N | threads | steps | wall s | grain-steps/s | CPU s | grain-steps per CPU s | sub-contacts | world bytes/grain |"
+        "| grains | N | threads | steps | wall s | grain-steps/s | CPU s | grain-steps per CPU s | sub-contacts | Verlet pairs | world bytes/grain |"
     );
-    println!("|---|---|---|---|---|---|---|---|---|---|");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|");
     for (kind, n) in cases {
         let spec = DepositSpec {
             kind,
@@ -95,13 +95,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             for &threads in &args.threads {
                 let t = engine::measure(world, args.dt, args.steps, threads)?;
                 println!(
-                    "| {kind} | {n} | {threads} | {} | {:.2} | {:.3e} | {:.2} | {:.3e} | {} | {:.0} |",
+                    "| {kind} | {n} | {threads} | {} | {:.2} | {:.3e} | {:.2} | {:.3e} | {} | {} | {:.0} |",
                     t.steps,
                     t.seconds,
                     t.grain_steps_per_second,
                     t.cpu_seconds,
                     (n as f64 * t.steps as f64) / t.cpu_seconds,
                     t.contacts,
+                    t.pairs,
                     bytes_per_grain
                 );
                 rows.push((kind, n, t, bytes_per_grain));
