@@ -117,7 +117,7 @@ def main(argv):
         f.write(f"{n} atoms\n{n} bodies\n1 atom types\n\n")
         margin = 0.01
         f.write(f"{-margin!r} {W + margin!r} xlo xhi\n")
-        f.write(f"{-margin!r} {top + 2 * p!r} ylo yhi\n")
+        f.write(f"{-margin!r} {top + 0.5!r} ylo yhi\n")  # headroom for grains thrown up
         f.write(f"{-margin!r} {margin!r} zlo zhi\n\n")
         thetas = []
         f.write("Atoms # body\n\n")
