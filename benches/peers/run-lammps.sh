@@ -4,7 +4,8 @@
 # benches/peers/lammps-results.csv.
 #
 # Usage: benches/peers/run-lammps.sh [CASE:N[:STEPS] ...]
-#   default: squares:3000 rods:5000 squares:30000:1000
+#   default: squares:3000 squares:30000:1000 (rods:5000 crashes LAMMPS 2021 while settling:
+#   README, "Differences" 10)
 #   N > 10 000: 10 settled deposits of N/10 grains stacked (see README).
 # Environment: STEPS (timed steps, default 20000), NPS (process counts, default "1 2";
 #   0 builds the settled deposits only),
@@ -16,7 +17,7 @@ work="${WORK:-$lmpdir/work}"
 steps="${STEPS:-20000}"
 nps="${NPS:-1 2}"
 cases=("$@")
-[ ${#cases[@]} -eq 0 ] && cases=(squares:3000 rods:5000 squares:30000:1000)
+[ ${#cases[@]} -eq 0 ] && cases=(squares:3000 squares:30000:1000)
 mkdir -p "$work"
 
 command -v lmp >/dev/null || { echo "lmp not found: run benches/peers/install-lammps.sh" >&2; exit 1; }
