@@ -4,6 +4,8 @@
 //! Coordinates are SI (metres) in the frame: origin at the bottom-left corner of the
 //! photograph, y upward; image row 0 is the top (y = (rows - row - 0.5) / scale).
 
+pub mod detect;
 mod grain;
 
+pub use detect::{DetectError, DetectParams, Detection, detect};
 pub use grain::{Frame, GrainOutline, GrainShape};
