@@ -6,3 +6,4 @@
 
 pub mod deposit;
 pub mod io;
+pub mod photos;

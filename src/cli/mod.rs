@@ -1,6 +1,7 @@
 //! One file per subcommand; each holds its clap arguments and a `run` that calls the library.
 
 mod bench;
+mod detect;
 mod drop;
 
 use clap::{Parser, Subcommand};
@@ -20,6 +21,8 @@ pub struct Cli {
 pub enum Command {
     /// Drop one grain onto a floor or a resting grain and report the collision.
     Drop(drop::Args),
+    /// Find every grain in backlit photographs of deposits; write a deposit table per photo.
+    Detect(detect::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -28,6 +31,7 @@ pub enum Command {
 pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Drop(args) => drop::run(args),
+        Command::Detect(args) => detect::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

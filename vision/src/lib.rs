@@ -6,6 +6,7 @@
 
 pub mod detect;
 mod grain;
+pub mod overlay;
 
 pub use detect::{DetectError, DetectParams, Detection, detect};
 pub use grain::{Frame, GrainOutline, GrainShape};

@@ -41,9 +41,20 @@ fn debug_dump() {
     image.save("/tmp/rods.png").unwrap();
     let found = detect(&image, &DetectParams::new(scene.shape, 10.0 / MM)).unwrap();
     for d in &found {
-        eprintln!("found {:.2} {:.2} {:.1} {:.2}", d.outline.x / MM, d.outline.y / MM, d.outline.theta.to_degrees(), d.confidence);
+        eprintln!(
+            "found {:.2} {:.2} {:.1} {:.2}",
+            d.outline.x / MM,
+            d.outline.y / MM,
+            d.outline.theta.to_degrees(),
+            d.confidence
+        );
     }
     for g in &scene.grains {
-        eprintln!("truth {:.2} {:.2} {:.1}", g.0 / MM, g.1 / MM, g.2.to_degrees());
+        eprintln!(
+            "truth {:.2} {:.2} {:.1}",
+            g.0 / MM,
+            g.1 / MM,
+            g.2.to_degrees()
+        );
     }
 }

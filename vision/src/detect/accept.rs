@@ -22,7 +22,6 @@ pub struct Found {
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
 
-
 pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) -> Vec<Found> {
     let px_per_mm = params.scale * 1e-3;
     let factor = (px_per_mm / COARSE_PX_PER_MM).floor().max(1.0) as usize;
@@ -38,15 +37,25 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         GrainShape::Rod { .. } => {
             // A seed on a rod's axis may sit anywhere along it, a little off it across.
             let half = 0.5 * length;
-            let along = [-1.0, -2.0 / 3.0, -1.0 / 3.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|k| k * half);
+            let along =
+                [-1.0, -2.0 / 3.0, -1.0 / 3.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|k| k * half);
             let across = [-0.5, -0.25, 0.0, 0.25, 0.5].map(|k| k * width);
-            let offs = along.iter().flat_map(|&a| across.iter().map(move |&b| (a, b))).collect();
+            let offs = along
+                .iter()
+                .flat_map(|&a| across.iter().map(move |&b| (a, b)))
+                .collect();
             (offs, 0.3 * width, 0.8 * width)
         }
-        GrainShape::Square { side, hole_diameter } => {
+        GrainShape::Square {
+            side,
+            hole_diameter,
+        } => {
             // A seed in the ring between hole and edge may be far from the centre.
             let steps = [-0.3, -0.15, 0.0, 0.15, 0.3].map(|k| k * width);
-            let offs = steps.iter().flat_map(|&a| steps.iter().map(move |&b| (a, b))).collect();
+            let offs = steps
+                .iter()
+                .flat_map(|&a| steps.iter().map(move |&b| (a, b)))
+                .collect();
             let ring = 0.5 * (side - hole_diameter) * params.scale;
             (offs, 0.25 * ring, 0.5 * width)
         }
@@ -77,9 +86,12 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         if round == 0 {
             tasks.extend(hole_seeds.iter().map(|&s| (s, &centre_only[..], 1.0)));
         }
-        let residual = seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f);
+        let residual =
+            seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f);
         let near_found = |s: (f64, f64)| {
-            found.iter().any(|g| (g.pose.x - s.0).hypot(g.pose.y - s.1) < 0.3 * width)
+            found
+                .iter()
+                .any(|g| (g.pose.x - s.0).hypot(g.pose.y - s.1) < 0.3 * width)
         };
         tasks.extend(
             residual
@@ -111,7 +123,10 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             // A fit next to a grain accepted in this round was made without knowing it: its
             // seed comes back in the next round, fitted against the updated explained map.
             let reach = 2.0 * fine_model.half_length as f64 + 2.0;
-            if this_round.iter().any(|p| (p.x - ft.pose.x).hypot(p.y - ft.pose.y) < reach) {
+            if this_round
+                .iter()
+                .any(|p| (p.x - ft.pose.x).hypot(p.y - ft.pose.y) < reach)
+            {
                 continue;
             }
             let duplicate = found

@@ -45,8 +45,14 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
         for &(a, b) in offsets {
             let x = seed.0 + a * c + b * s;
             let y = seed.1 - a * s + b * c;
-            let pose = Pose { x: x / f, y: y / f, phi };
-            let sc = levels.coarse_model.score(pose, levels.coarse, Some(levels.coarse_explained));
+            let pose = Pose {
+                x: x / f,
+                y: y / f,
+                phi,
+            };
+            let sc = levels
+                .coarse_model
+                .score(pose, levels.coarse, Some(levels.coarse_explained));
             tried.push((sc.total, Pose { x, y, phi }));
         }
     }

@@ -143,16 +143,23 @@ pub fn detect(image: &DynamicImage, params: &DetectParams) -> Result<Vec<Detecti
 fn validate(params: &DetectParams) -> Result<(), DetectError> {
     let bad = |m: String| Err(DetectError::InvalidParams(m));
     if !(params.scale.is_finite() && params.scale > 0.0) {
-        return bad(format!("scale must be a positive number of px/m, got {}", params.scale));
+        return bad(format!(
+            "scale must be a positive number of px/m, got {}",
+            params.scale
+        ));
     }
     let (l, w) = (params.shape.length(), params.shape.width());
     if !(l.is_finite() && w.is_finite() && w > 0.0 && l >= w) {
-        return bad(format!("grain length {l} m and width {w} m: need length >= width > 0"));
+        return bad(format!(
+            "grain length {l} m and width {w} m: need length >= width > 0"
+        ));
     }
     if let GrainShape::Square { hole_diameter, .. } = params.shape
         && !(hole_diameter >= 0.0 && hole_diameter < w)
     {
-        return bad(format!("hole diameter {hole_diameter} m must be in [0, side)"));
+        return bad(format!(
+            "hole diameter {hole_diameter} m must be in [0, side)"
+        ));
     }
     let width_px = w * params.scale;
     if width_px < 5.0 {
@@ -161,8 +168,7 @@ fn validate(params: &DetectParams) -> Result<(), DetectError> {
             params.scale * 1e-3
         ));
     }
-    if !(0.0..=1.0).contains(&params.min_confidence) || !(0.0..=1.0).contains(&params.min_visible)
-    {
+    if !(0.0..=1.0).contains(&params.min_confidence) || !(0.0..=1.0).contains(&params.min_visible) {
         return bad("min_confidence and min_visible must lie in [0, 1]".into());
     }
     Ok(())

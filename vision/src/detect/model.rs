@@ -85,18 +85,6 @@ impl Model {
         (0.5 - self.signed_distance(u, v) / self.soft).clamp(0.0, 1.0)
     }
 
-    /// Darkness the grain itself casts at (u, v): coverage minus the hole.
-    #[inline]
-    pub fn opacity(&self, u: f32, v: f32) -> f32 {
-        let c = self.coverage(u, v);
-        if self.hole_radius > 0.0 && c > 0.0 {
-            let rho = (u * u + v * v).sqrt();
-            c * (1.0 - (0.5 + (self.hole_radius - rho) / self.soft).clamp(0.0, 1.0))
-        } else {
-            c
-        }
-    }
-
     /// Half extents (columns, rows) of the axis-aligned box that holds the pose and its ring.
     pub fn extent(&self, phi: f64) -> (f32, f32) {
         let (s, c) = (phi.sin().abs() as f32, phi.cos().abs() as f32);
@@ -171,7 +159,11 @@ impl Model {
                 }
             }
         }
-        let visible = if area_all > 0.0 { (inside_w + hole_w) / area_all } else { 0.0 };
+        let visible = if area_all > 0.0 {
+            (inside_w + hole_w) / area_all
+        } else {
+            0.0
+        };
         let agreement = if inside_w + hole_w > 0.0 {
             (inside + hole) / (inside_w + hole_w)
         } else {

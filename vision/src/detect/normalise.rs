@@ -85,7 +85,10 @@ fn bright_field(smooth: &Plane, block: usize) -> Plane {
     let mut sorted = cells.clone();
     sorted.sort_by(|a, b| a.total_cmp(b));
     let typical = sorted[(sorted.len() * 3) / 4];
-    let mut valid: Vec<bool> = cells.iter().map(|&c| c >= 0.7 * typical && c > 0.0).collect();
+    let mut valid: Vec<bool> = cells
+        .iter()
+        .map(|&c| c >= 0.7 * typical && c > 0.0)
+        .collect();
     // Sliver-lit cells still underestimate: take the max over the 3 x 3 neighbourhood of
     // valid cells (the backlight varies on a scale much larger than a cell).
     let dilated: Vec<f32> = (0..bw * bh)
@@ -151,20 +154,23 @@ fn fill_from_neighbours(cells: &mut [f32], valid: &mut [bool], bw: usize, bh: us
 fn interpolate(cells: &[f32], bw: usize, bh: usize, block: usize, w: usize, h: usize) -> Plane {
     let mut out = Plane::new(w, h, 0.0);
     let b = block as f32;
-    out.data.par_chunks_mut(w).enumerate().for_each(|(r, line)| {
-        let fy = ((r as f32 + 0.5) / b - 0.5).clamp(0.0, (bh - 1) as f32);
-        let y0 = fy.floor() as usize;
-        let y1 = (y0 + 1).min(bh - 1);
-        let ty = fy - y0 as f32;
-        for (c, o) in line.iter_mut().enumerate() {
-            let fx = ((c as f32 + 0.5) / b - 0.5).clamp(0.0, (bw - 1) as f32);
-            let x0 = fx.floor() as usize;
-            let x1 = (x0 + 1).min(bw - 1);
-            let tx = fx - x0 as f32;
-            let top = cells[y0 * bw + x0] * (1.0 - tx) + cells[y0 * bw + x1] * tx;
-            let bottom = cells[y1 * bw + x0] * (1.0 - tx) + cells[y1 * bw + x1] * tx;
-            *o = top * (1.0 - ty) + bottom * ty;
-        }
-    });
+    out.data
+        .par_chunks_mut(w)
+        .enumerate()
+        .for_each(|(r, line)| {
+            let fy = ((r as f32 + 0.5) / b - 0.5).clamp(0.0, (bh - 1) as f32);
+            let y0 = fy.floor() as usize;
+            let y1 = (y0 + 1).min(bh - 1);
+            let ty = fy - y0 as f32;
+            for (c, o) in line.iter_mut().enumerate() {
+                let fx = ((c as f32 + 0.5) / b - 0.5).clamp(0.0, (bw - 1) as f32);
+                let x0 = fx.floor() as usize;
+                let x1 = (x0 + 1).min(bw - 1);
+                let tx = fx - x0 as f32;
+                let top = cells[y0 * bw + x0] * (1.0 - tx) + cells[y0 * bw + x1] * tx;
+                let bottom = cells[y1 * bw + x0] * (1.0 - tx) + cells[y1 * bw + x1] * tx;
+                *o = top * (1.0 - ty) + bottom * ty;
+            }
+        });
     out
 }

@@ -11,7 +11,11 @@ pub struct Plane {
 
 impl Plane {
     pub fn new(width: usize, height: usize, value: f32) -> Self {
-        Plane { width, height, data: vec![value; width * height] }
+        Plane {
+            width,
+            height,
+            data: vec![value; width * height],
+        }
     }
 
     #[inline]
@@ -41,7 +45,11 @@ impl Plane {
                 *o = sum / ((r1 - r0) * (c1 - c0)) as f32;
             }
         });
-        Plane { width: w, height: h, data }
+        Plane {
+            width: w,
+            height: h,
+            data,
+        }
     }
 
     /// Separable Gaussian blur (edges clamped).
@@ -57,27 +65,35 @@ impl Plane {
         let kernel: Vec<f32> = kernel.iter().map(|k| k / norm).collect();
         let (w, h) = (self.width as isize, self.height as isize);
         let mut tmp = vec![0.0f32; self.data.len()];
-        tmp.par_chunks_mut(self.width).enumerate().for_each(|(r, out)| {
-            let line = &self.data[r * self.width..(r + 1) * self.width];
-            for (c, o) in out.iter_mut().enumerate() {
-                let mut s = 0.0;
-                for (k, kv) in kernel.iter().enumerate() {
-                    let cc = (c as isize + k as isize - radius).clamp(0, w - 1) as usize;
-                    s += kv * line[cc];
+        tmp.par_chunks_mut(self.width)
+            .enumerate()
+            .for_each(|(r, out)| {
+                let line = &self.data[r * self.width..(r + 1) * self.width];
+                for (c, o) in out.iter_mut().enumerate() {
+                    let mut s = 0.0;
+                    for (k, kv) in kernel.iter().enumerate() {
+                        let cc = (c as isize + k as isize - radius).clamp(0, w - 1) as usize;
+                        s += kv * line[cc];
+                    }
+                    *o = s;
                 }
-                *o = s;
-            }
-        });
+            });
         let mut data = vec![0.0f32; self.data.len()];
-        data.par_chunks_mut(self.width).enumerate().for_each(|(r, out)| {
-            for (k, kv) in kernel.iter().enumerate() {
-                let rr = (r as isize + k as isize - radius).clamp(0, h - 1) as usize;
-                let line = &tmp[rr * self.width..(rr + 1) * self.width];
-                for (o, v) in out.iter_mut().zip(line) {
-                    *o += kv * v;
+        data.par_chunks_mut(self.width)
+            .enumerate()
+            .for_each(|(r, out)| {
+                for (k, kv) in kernel.iter().enumerate() {
+                    let rr = (r as isize + k as isize - radius).clamp(0, h - 1) as usize;
+                    let line = &tmp[rr * self.width..(rr + 1) * self.width];
+                    for (o, v) in out.iter_mut().zip(line) {
+                        *o += kv * v;
+                    }
                 }
-            }
-        });
-        Plane { width: self.width, height: self.height, data }
+            });
+        Plane {
+            width: self.width,
+            height: self.height,
+            data,
+        }
     }
 }

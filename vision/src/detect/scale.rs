@@ -42,7 +42,11 @@ pub fn measured_scale(shape: GrainShape, dark: &Plane, blobs: &[BrightBlob]) -> 
 fn ridge_half_thicknesses(dark: &Plane) -> Vec<f64> {
     let (w, h) = (dark.width, dark.height);
     let field = GrayImage::from_fn(w as u32, h as u32, |c, r| {
-        Luma([if dark.at(c as usize, r as usize) > 0.5 { 0 } else { 255 }])
+        Luma([if dark.at(c as usize, r as usize) > 0.5 {
+            0
+        } else {
+            255
+        }])
     });
     let depth = euclidean_squared_distance_transform(&field);
     let mut out = Vec::new();
@@ -54,7 +58,16 @@ fn ridge_half_thicknesses(dark: &Plane) -> Vec<f64> {
             }
             // Ridge: no neighbour deeper (plateaus along a rod's axis count).
             let mut ridge = true;
-            for (dc, dr) in [(-1i32, -1i32), (0, -1), (1, -1), (-1, 0), (1, 0), (-1, 1), (0, 1), (1, 1)] {
+            for (dc, dr) in [
+                (-1i32, -1i32),
+                (0, -1),
+                (1, -1),
+                (-1, 0),
+                (1, 0),
+                (-1, 1),
+                (0, 1),
+                (1, 1),
+            ] {
                 if depth.get_pixel((c as i32 + dc) as u32, (r as i32 + dr) as u32)[0] > d {
                     ridge = false;
                     break;

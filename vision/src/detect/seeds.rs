@@ -27,7 +27,19 @@ pub fn bright_blobs(dark: &Plane) -> Vec<BrightBlob> {
     let labels = connected_components(&mask, Connectivity::Eight, Luma([0u8]));
     let n = labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize;
     // Per label: count, sum x, sum y, bounding box, touches edge.
-    let mut acc = vec![(0.0f64, 0.0f64, 0.0f64, usize::MAX, 0usize, usize::MAX, 0usize, false); n + 1];
+    let mut acc = vec![
+        (
+            0.0f64,
+            0.0f64,
+            0.0f64,
+            usize::MAX,
+            0usize,
+            usize::MAX,
+            0usize,
+            false
+        );
+        n + 1
+    ];
     for (c, r, p) in labels.enumerate_pixels() {
         let l = p[0] as usize;
         if l == 0 {
@@ -80,7 +92,11 @@ pub fn residual_seeds(
     // Foreground of the transform = everything that is NOT residual dark area.
     let field = GrayImage::from_fn(w as u32, h as u32, |c, r| {
         let i = r as usize * w + c as usize;
-        Luma([if dark.data[i] * (1.0 - explained.data[i]) > 0.5 { 0 } else { 255 }])
+        Luma([if dark.data[i] * (1.0 - explained.data[i]) > 0.5 {
+            0
+        } else {
+            255
+        }])
     });
     let depth = euclidean_squared_distance_transform(&field);
     let min2 = min_depth * min_depth;
@@ -117,9 +133,14 @@ pub fn residual_seeds(
     let s2 = spacing * spacing;
     for (_, c, r) in peaks {
         let (x, y) = (c as f64 + 0.5, r as f64 + 0.5);
-        if kept.iter().all(|&(kx, ky)| (kx - x).powi(2) + (ky - y).powi(2) >= s2) {
+        if kept
+            .iter()
+            .all(|&(kx, ky)| (kx - x).powi(2) + (ky - y).powi(2) >= s2)
+        {
             kept.push((x, y));
         }
     }
-    kept.into_iter().map(|(x, y)| (x * factor, y * factor)).collect()
+    kept.into_iter()
+        .map(|(x, y)| (x * factor, y * factor))
+        .collect()
 }

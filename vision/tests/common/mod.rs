@@ -11,15 +11,24 @@ use vision::{Detection, GrainShape};
 pub const MM: f64 = 1e-3;
 
 pub fn nut() -> GrainShape {
-    GrainShape::Square { side: 6.9 * MM, hole_diameter: 3.3 * MM }
+    GrainShape::Square {
+        side: 6.9 * MM,
+        hole_diameter: 3.3 * MM,
+    }
 }
 
 pub fn long_rod() -> GrainShape {
-    GrainShape::Rod { length: 8.9 * MM, width: 3.0 * MM }
+    GrainShape::Rod {
+        length: 8.9 * MM,
+        width: 3.0 * MM,
+    }
 }
 
 pub fn short_rod() -> GrainShape {
-    GrainShape::Rod { length: 4.9 * MM, width: 3.0 * MM }
+    GrainShape::Rod {
+        length: 4.9 * MM,
+        width: 3.0 * MM,
+    }
 }
 
 /// Grains (x, y in metres from the bottom-left, theta) in a width x height frame (metres).
@@ -44,7 +53,15 @@ pub struct Style {
 
 impl Style {
     pub fn lab() -> Self {
-        Style { blur_px: 0.8, noise: 0.02, grain_level: 0.12, highlight: 0.12, dust: 6, sixteen_bit: false, seed: 1 }
+        Style {
+            blur_px: 0.8,
+            noise: 0.02,
+            grain_level: 0.12,
+            highlight: 0.12,
+            dust: 6,
+            sixteen_bit: false,
+            seed: 1,
+        }
     }
 }
 
@@ -56,7 +73,10 @@ pub fn rod_block(shape: GrainShape, angle: f64, columns: usize, stack: usize) ->
     let axis = (c, s);
     let normal = (-s, c);
     let mut grains = Vec::new();
-    let (cx, cy) = (0.5 * (columns as f64 + 1.0) * l, 0.5 * (stack as f64 + 1.0) * d);
+    let (cx, cy) = (
+        0.5 * (columns as f64 + 1.0) * l,
+        0.5 * (stack as f64 + 1.0) * d,
+    );
     for j in 0..stack {
         let shift = if j % 2 == 0 { 0.0 } else { 0.37 * l };
         for i in 0..columns {
@@ -91,7 +111,12 @@ fn frame_around(shape: GrainShape, grains: Vec<(f64, f64, f64)>, size: f64) -> S
         .into_iter()
         .map(|(x, y, t)| (x + 0.5 * size, y + 0.5 * size, t))
         .collect();
-    Scene { shape, width: size, height: size, grains }
+    Scene {
+        shape,
+        width: size,
+        height: size,
+        grains,
+    }
 }
 
 fn rounded_rect_sd(u: f64, v: f64, hl: f64, hw: f64, r: f64) -> f64 {
@@ -149,9 +174,11 @@ pub fn render(scene: &Scene, px_per_mm: f64, style: &Style) -> DynamicImage {
                 let k = (n * n) as f64;
                 let cover = cover / k;
                 if cover > 0.0 {
-                    let grain = style.grain_level as f64 + style.highlight as f64 * light / k / cover;
+                    let grain =
+                        style.grain_level as f64 + style.highlight as f64 * light / k / cover;
                     let i = r * cols + col;
-                    t[i] = (t[i] as f64 * (1.0 - cover) + grain.min(1.0) * cover).min(t[i] as f64) as f32;
+                    t[i] = (t[i] as f64 * (1.0 - cover) + grain.min(1.0) * cover).min(t[i] as f64)
+                        as f32;
                 }
             }
         }
@@ -159,7 +186,10 @@ pub fn render(scene: &Scene, px_per_mm: f64, style: &Style) -> DynamicImage {
     let mut rng = ChaCha8Rng::seed_from_u64(style.seed);
     // Dust: small dark specks on the glass.
     for _ in 0..style.dust {
-        let (x, y) = (rng.random_range(0.0..cols as f64), rng.random_range(0.0..rows as f64));
+        let (x, y) = (
+            rng.random_range(0.0..cols as f64),
+            rng.random_range(0.0..rows as f64),
+        );
         let rad = 0.25 * px_per_mm;
         for r in (y - rad).max(0.0) as usize..((y + rad).ceil() as usize).min(rows) {
             for c in (x - rad).max(0.0) as usize..((x + rad).ceil() as usize).min(cols) {
@@ -175,19 +205,28 @@ pub fn render(scene: &Scene, px_per_mm: f64, style: &Style) -> DynamicImage {
         .iter()
         .enumerate()
         .map(|(i, &v)| {
-            let (c, r) = ((i % cols) as f32 / cols as f32, (i / cols) as f32 / rows as f32);
+            let (c, r) = (
+                (i % cols) as f32 / cols as f32,
+                (i / cols) as f32 / rows as f32,
+            );
             // Uneven backlight: brighter off-centre, dimmer towards a corner.
             let field = 0.85 - 0.3 * ((c - 0.3).powi(2) + (r - 0.7).powi(2));
-            let noise = style.noise * (rng.random::<f32>() + rng.random::<f32>() + rng.random::<f32>() - 1.5) * 2.0;
+            let noise = style.noise
+                * (rng.random::<f32>() + rng.random::<f32>() + rng.random::<f32>() - 1.5)
+                * 2.0;
             ((v * field + noise).clamp(0.0, 1.0)) * max
         })
         .collect();
     if style.sixteen_bit {
         let raw: Vec<u16> = px.iter().map(|&v| v.round() as u16).collect();
-        DynamicImage::ImageLuma16(ImageBuffer::<Luma<u16>, _>::from_raw(cols as u32, rows as u32, raw).unwrap())
+        DynamicImage::ImageLuma16(
+            ImageBuffer::<Luma<u16>, _>::from_raw(cols as u32, rows as u32, raw).unwrap(),
+        )
     } else {
         let raw: Vec<u8> = px.iter().map(|&v| v.round() as u8).collect();
-        DynamicImage::ImageLuma8(ImageBuffer::<Luma<u8>, _>::from_raw(cols as u32, rows as u32, raw).unwrap())
+        DynamicImage::ImageLuma8(
+            ImageBuffer::<Luma<u8>, _>::from_raw(cols as u32, rows as u32, raw).unwrap(),
+        )
     }
 }
 
@@ -196,7 +235,9 @@ fn blur(t: &[f32], cols: usize, rows: usize, sigma: f32) -> Vec<f32> {
         return t.to_vec();
     }
     let rad = (3.0 * sigma).ceil() as isize;
-    let k: Vec<f32> = (-rad..=rad).map(|i| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp()).collect();
+    let k: Vec<f32> = (-rad..=rad)
+        .map(|i| (-(i * i) as f32 / (2.0 * sigma * sigma)).exp())
+        .collect();
     let sum: f32 = k.iter().sum();
     let pass = |src: &[f32], horizontal: bool| -> Vec<f32> {
         let mut out = vec![0.0f32; src.len()];
