@@ -68,6 +68,11 @@ impl Style {
 /// Rods stacked face to face in columns that also touch end to end, the columns staggered:
 /// a solid dark block whose only inner cues are the highlights and corner slivers.
 pub fn rod_block(shape: GrainShape, angle: f64, columns: usize, stack: usize) -> Scene {
+    rod_stacks(shape, angle, columns, stack, 0.0)
+}
+
+/// Columns of rods stacked face to face, `gap` (metres) between the columns' ends.
+pub fn rod_stacks(shape: GrainShape, angle: f64, columns: usize, stack: usize, gap: f64) -> Scene {
     let (l, d) = (shape.length(), shape.width());
     let (s, c) = angle.sin_cos();
     let axis = (c, s);
@@ -80,7 +85,7 @@ pub fn rod_block(shape: GrainShape, angle: f64, columns: usize, stack: usize) ->
     for j in 0..stack {
         let shift = if j % 2 == 0 { 0.0 } else { 0.37 * l };
         for i in 0..columns {
-            let a = (i as f64 - 0.5 * (columns as f64 - 1.0)) * l + shift;
+            let a = (i as f64 - 0.5 * (columns as f64 - 1.0)) * (l + gap) + shift;
             let b = (j as f64 - 0.5 * (stack as f64 - 1.0)) * d;
             grains.push((a * axis.0 + b * normal.0, a * axis.1 + b * normal.1, angle));
         }
