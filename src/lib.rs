@@ -5,5 +5,6 @@
 //! The binary in `main.rs` only parses arguments and dispatches here.
 
 pub mod deposit;
+pub mod detection;
 pub mod io;
-pub mod photos;
+pub mod photo;

@@ -5,7 +5,7 @@ use clap::{Args as ClapArgs, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use facets::photos;
+use facets::detection;
 use vision::DetectParams;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -26,7 +26,7 @@ pub struct Args {
     pub shape: Shape,
     /// Rod length / width: "5/3" (4.9 mm rods), "3" (8.9 mm rods), or any d >= 1 (length
     /// d x 3 mm). Ignored for squares.
-    #[arg(long, default_value = "1", value_parser = photos::parse_aspect)]
+    #[arg(long, default_value = "1", value_parser = detection::parse_aspect)]
     pub aspect: f64,
     /// Scale of the photographs in pixels per millimetre.
     #[arg(long)]
@@ -43,10 +43,10 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let shape = photos::grain_shape(matches!(args.shape, Shape::Square), args.aspect)?;
+    let shape = detection::grain_shape(matches!(args.shape, Shape::Square), args.aspect)?;
     let mut params = DetectParams::new(shape, args.px_per_mm * 1e3);
     params.min_confidence = args.min_confidence;
-    let list = photos::collect_photos(&args.photos)?;
+    let list = detection::collect_photos(&args.photos)?;
     if list.is_empty() {
         bail!("no PNG, TIFF or JPEG photographs found in the paths given");
     }
@@ -57,7 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let results: Vec<_> = list
         .par_iter()
         .map(|p| {
-            let r = photos::detect_photo(p, &params, &args.out, args.overlay);
+            let r = detection::detect_photo(p, &params, &args.out, args.overlay);
             bar.inc(1);
             (p, r)
         })

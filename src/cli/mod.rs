@@ -3,6 +3,7 @@
 mod bench;
 mod detect;
 mod drop;
+mod render;
 
 use clap::{Parser, Subcommand};
 
@@ -23,6 +24,9 @@ pub enum Command {
     Drop(drop::Args),
     /// Find every grain in backlit photographs of deposits; write a deposit table per photo.
     Detect(detect::Args),
+    /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
+    /// packing), with its ground-truth table beside it.
+    Render(render::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -32,6 +36,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Drop(args) => drop::run(args),
         Command::Detect(args) => detect::run(args),
+        Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

@@ -65,6 +65,13 @@ impl DetectParams {
     }
 }
 
+impl Default for DetectParams {
+    /// The experiment's nuts at 10 px/mm.
+    fn default() -> Self {
+        DetectParams::new(GrainShape::nut(6.9e-3), 1e4)
+    }
+}
+
 /// One detected grain.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Detection {

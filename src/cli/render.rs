@@ -1,0 +1,195 @@
+//! `facets render`: a synthetic backlit photograph of a deposit table or a generated packing.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, bail};
+use clap::{Args as ClapArgs, ValueEnum};
+use image::ImageFormat;
+use vision::packing::{Packing, generate};
+use vision::render::{Style, render};
+use vision::{Frame, GrainShape};
+
+use facets::deposit::{read_deposit_csv, write_deposit_csv};
+use facets::io::write_atomic;
+use facets::photo::{Region, deposit_of, frame_deposit};
+
+/// Largest photograph rendered, in pixels (about 1 GB of working memory).
+const MAX_PIXELS: f64 = 250e6;
+
+#[derive(Debug, ClapArgs)]
+#[command(
+    after_help = "Writes the photograph (PNG) and, beside it, its ground truth: \
+PHOTO.truth.csv with the grains that show in the frame, coordinates relative to the frame's \
+bottom-left corner (mm, y up), angles folded by symmetry, and cut = 1 for grains the frame cuts.\n\n\
+Examples:\n  facets render deposit.csv --px-per-mm 10 --frame 0,290,258,120 --out photo.png\n  \
+facets render --generate rod3 --packing ordered --px-per-mm 6 --style hard --out rods.png"
+)]
+pub struct Args {
+    /// Deposit table (CSV: x_mm,y_mm,theta_rad,length_mm,width_mm). Grains with equal sides
+    /// are drawn as nuts (hole 3.3 mm per 6.9 mm of side), others as rods.
+    #[arg(required_unless_present = "generate", conflicts_with = "generate")]
+    deposit: Option<PathBuf>,
+
+    /// Instead of a deposit table, photograph a generated dense packing of this grain:
+    /// square (6.9 mm nut), rod53 (4.9 x 3 mm), rod3 (8.9 x 3 mm).
+    #[arg(long, value_enum)]
+    generate: Option<Generated>,
+
+    /// How the generated packing was laid down: ordered (slow fill, grains mostly flat) or
+    /// disordered (fast fill, random orientations).
+    #[arg(long, default_value = "disordered", requires = "generate")]
+    packing: Packing,
+
+    /// Image scale, pixels per millimetre.
+    #[arg(long)]
+    px_per_mm: f64,
+
+    /// Output PNG.
+    #[arg(long)]
+    out: PathBuf,
+
+    /// Region photographed, x0,y0,width,height in mm of the deposit's coordinates (bottom-left
+    /// corner and size). Default: around all grains of a deposit; 0,0,258,120 for a generated
+    /// packing.
+    #[arg(long, value_parser = parse_frame)]
+    frame: Option<[f64; 4]>,
+
+    /// Look of the photograph: clean (even light, sharp), lab (uneven light, some blur, noise,
+    /// dust, scratches) or hard (strong blur, low contrast, heavy noise, dirty glass).
+    #[arg(long, default_value = "lab", value_parser = ["clean", "lab", "hard"])]
+    style: String,
+
+    /// Bits per pixel of the PNG: 8 or 16.
+    #[arg(long, default_value_t = 16, value_parser = parse_bits)]
+    bits: u8,
+
+    /// Seed of the noise, dust, scratches, light (and of the generated packing).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Generated {
+    Square,
+    Rod53,
+    Rod3,
+}
+
+fn parse_bits(text: &str) -> Result<u8, String> {
+    match text.trim() {
+        "8" => Ok(8),
+        "16" => Ok(16),
+        other => Err(format!("`{other}`: expected 8 or 16")),
+    }
+}
+
+fn parse_frame(text: &str) -> Result<[f64; 4], String> {
+    let values: Vec<f64> = text
+        .split(',')
+        .map(|v| v.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("`{text}`: {e}; expected four numbers x0,y0,width,height in mm"))?;
+    match values[..] {
+        [x0, y0, w, h] if values.iter().all(|v| v.is_finite()) && w > 0.0 && h > 0.0 => {
+            Ok([x0, y0, w, h])
+        }
+        _ => Err(format!(
+            "`{text}`: expected four finite numbers x0,y0,width,height in mm, width and height positive"
+        )),
+    }
+}
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    if !(args.px_per_mm.is_finite() && args.px_per_mm > 0.0) {
+        bail!("--px-per-mm {} : expected a positive scale", args.px_per_mm);
+    }
+    let scale = args.px_per_mm * 1e3;
+    let style = Style::named(&args.style).context("unknown style")?;
+    let mm = |v: [f64; 4]| Region {
+        x0: v[0] * 1e-3,
+        y0: v[1] * 1e-3,
+        width: v[2] * 1e-3,
+        height: v[3] * 1e-3,
+    };
+    let (outlines, truth, frame) = match (&args.deposit, args.generate) {
+        (Some(path), _) => {
+            let deposit = read_deposit_csv(path)?;
+            let region = match args.frame {
+                Some(f) => mm(f),
+                None => Region::around(&deposit).with_context(|| {
+                    format!(
+                        "{}: the deposit has no grains; give --frame",
+                        path.display()
+                    )
+                })?,
+            };
+            let frame = frame_of(&region, scale)?;
+            let (outlines, truth) = frame_deposit(&deposit, &region, &frame);
+            (outlines, truth, frame)
+        }
+        (None, Some(kind)) => {
+            let region = mm(args.frame.unwrap_or([0.0, 0.0, 258.0, 120.0]));
+            let frame = frame_of(&region, scale)?;
+            let shape = match kind {
+                Generated::Square => GrainShape::nut(6.9e-3),
+                Generated::Rod53 => GrainShape::Rod {
+                    length: 4.9e-3,
+                    width: 3e-3,
+                },
+                Generated::Rod3 => GrainShape::Rod {
+                    length: 8.9e-3,
+                    width: 3e-3,
+                },
+            };
+            let packed = generate(shape, args.packing, &frame, args.seed);
+            eprintln!(
+                "generated packing: fraction {:.3}, deepest overlap {:.2} % of D",
+                packed.packing_fraction,
+                100.0 * packed.max_overlap
+            );
+            let truth = deposit_of(&packed.grains, &frame);
+            (packed.grains, truth, frame)
+        }
+        (None, None) => bail!("give a deposit table or --generate"),
+    };
+    let photo = render(&outlines, &frame, &style, args.seed).to_image(args.bits);
+    write_atomic(&args.out, |w| {
+        photo.write_to(w, ImageFormat::Png)?;
+        Ok(())
+    })?;
+    let truth_path = args.out.with_extension("truth.csv");
+    write_deposit_csv(&truth_path, &truth)?;
+    let cut = truth.grains.iter().filter(|g| g.cut).count();
+    eprintln!(
+        "{}: {} x {} px, {} grains ({cut} cut by the frame); truth in {}",
+        args.out.display(),
+        frame.columns(),
+        frame.rows(),
+        truth.grains.len(),
+        truth_path.display()
+    );
+    Ok(())
+}
+
+fn frame_of(region: &Region, scale: f64) -> anyhow::Result<Frame> {
+    let frame = Frame {
+        width: region.width,
+        height: region.height,
+        scale,
+    };
+    let pixels = (region.width * scale).round() * (region.height * scale).round();
+    if pixels > MAX_PIXELS {
+        bail!(
+            "the photograph would have {:.0} Mpx (frame {:.1} x {:.1} mm at {:.2} px/mm); the limit is {:.0} Mpx: lower --px-per-mm or give a smaller --frame",
+            pixels / 1e6,
+            region.width * 1e3,
+            region.height * 1e3,
+            scale / 1e3,
+            MAX_PIXELS / 1e6
+        );
+    }
+    if frame.columns() == 0 || frame.rows() == 0 {
+        bail!("the frame is smaller than one pixel at this scale");
+    }
+    Ok(frame)
+}

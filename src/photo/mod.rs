@@ -1,0 +1,147 @@
+//! Between deposit tables and photographs: grain outlines from a deposit, and the truth table
+//! of a photograph.
+
+use vision::{Frame, GrainOutline, GrainShape};
+
+use crate::deposit::{Deposit, Grain};
+
+/// The outline of a deposit grain: a nut (hole scaled with the side: 3.3 mm for 6.9 mm) when
+/// its sides are equal, else a rod.
+pub fn outline_of(grain: &Grain) -> GrainOutline {
+    let shape = if grain.is_square() {
+        GrainShape::nut(grain.width)
+    } else {
+        GrainShape::Rod {
+            length: grain.length,
+            width: grain.width,
+        }
+    };
+    GrainOutline {
+        x: grain.x,
+        y: grain.y,
+        theta: grain.theta,
+        shape,
+    }
+}
+
+/// A region of a deposit to photograph: its bottom-left corner in deposit coordinates and its
+/// size (metres).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Region {
+    pub x0: f64,
+    pub y0: f64,
+    pub width: f64,
+    pub height: f64,
+}
+
+impl Region {
+    /// The smallest region holding every grain of a deposit whole.
+    pub fn around(deposit: &Deposit) -> Option<Region> {
+        let mut b = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for g in &deposit.grains {
+            let r = 0.5 * g.length.hypot(g.width);
+            b = [
+                b[0].min(g.x - r),
+                b[1].min(g.y - r),
+                b[2].max(g.x + r),
+                b[3].max(g.y + r),
+            ];
+        }
+        (b[0] < b[2]).then(|| Region {
+            x0: b[0],
+            y0: b[1],
+            width: b[2] - b[0],
+            height: b[3] - b[1],
+        })
+    }
+}
+
+/// Outlines of the deposit's grains that show in `region`, in frame coordinates (origin at the
+/// region's bottom-left corner), and the truth table of the photograph: the same grains, frame
+/// coordinates, folded angles, `cut` set for grains the frame cuts.
+pub fn frame_deposit(
+    deposit: &Deposit,
+    region: &Region,
+    frame: &Frame,
+) -> (Vec<GrainOutline>, Deposit) {
+    let mut outlines = Vec::new();
+    let mut truth = Deposit::default();
+    for g in &deposit.grains {
+        let mut o = outline_of(g);
+        o.x -= region.x0;
+        o.y -= region.y0;
+        if !o.overlaps_frame(frame) {
+            continue;
+        }
+        outlines.push(o);
+        truth.grains.push(
+            Grain {
+                x: o.x,
+                y: o.y,
+                confidence: Some(1.0),
+                cut: o.is_cut_by(frame),
+                ..*g
+            }
+            .folded(),
+        );
+    }
+    (outlines, truth)
+}
+
+/// The deposit table of generated or detected outlines (frame coordinates).
+pub fn deposit_of(outlines: &[GrainOutline], frame: &Frame) -> Deposit {
+    Deposit {
+        grains: outlines
+            .iter()
+            .map(|o| {
+                Grain {
+                    x: o.x,
+                    y: o.y,
+                    theta: o.theta,
+                    length: o.shape.length(),
+                    width: o.shape.width(),
+                    confidence: Some(1.0),
+                    cut: o.is_cut_by(frame),
+                }
+                .folded()
+            })
+            .collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn squares_become_nuts_with_scaled_holes() {
+        let g = Grain {
+            x: 0.01,
+            y: 0.02,
+            theta: 0.1,
+            length: 6.9e-3,
+            width: 6.9e-3,
+            confidence: None,
+            cut: false,
+        };
+        let o = outline_of(&g);
+        assert_eq!(
+            o.shape,
+            GrainShape::Square {
+                side: 6.9e-3,
+                hole_diameter: 3.3e-3
+            }
+        );
+        let rod = outline_of(&Grain {
+            length: 8.9e-3,
+            width: 3e-3,
+            ..g
+        });
+        assert!(matches!(rod.shape, GrainShape::Rod { .. }));
+    }
+}
