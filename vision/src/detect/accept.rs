@@ -19,6 +19,9 @@ pub struct Found {
     pub confidence: f64,
 }
 
+/// A seed to fit: position, offsets to try, first refinement step.
+type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64);
+
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
 
@@ -28,7 +31,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     let f = factor as f64;
     let coarse = dark.downsample(factor);
     let fine_model = Model::new(params.shape, params.scale);
-    let coarse_model = Model::new(params.shape, params.scale / f);
+    let coarse_model = Model::with_softness(params.shape, params.scale / f, 2.0);
     let length = params.shape.length() * params.scale;
     let width = params.shape.width() * params.scale;
 
@@ -68,10 +71,43 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     };
     let centre_only = [(0.0, 0.0)];
 
+    let residual_step = (0.15 * width).max(f);
     let mut explained = Plane::new(dark.width, dark.height, 0.0);
     let mut found: Vec<Found> = Vec::new();
+    // Seeds to fit this round: position, offsets to try, first refinement step.
+    let mut pending: Vec<Task> = hole_seeds
+        .iter()
+        .map(|&s| (s, &centre_only[..], 1.0))
+        .collect();
+    // Seeds whose fit failed, retried only when a grain is accepted next to them.
+    let mut failed: Vec<(f64, f64)> = Vec::new();
+    // Two outlines closer than this may overlap: a fit made before its neighbour was
+    // accepted is redone.
+    let reach = length.hypot(width) + 2.0;
+    let mut coarse_explained = explained.downsample(factor);
     for round in 0..params.max_rounds.max(1) {
-        let coarse_explained = explained.downsample(factor);
+        let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
+            list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
+        };
+        let mut avoid: Vec<(f64, f64)> = pending.iter().map(|t| t.0).collect();
+        avoid.extend(failed.iter().copied());
+        avoid.extend(found.iter().map(|g| (g.pose.x, g.pose.y)));
+        // Holes pin nuts exactly: fit those first, so that the residual seeds of later rounds
+        // only go where a nut's hole was not seen.
+        let residual = if round == 0 && !pending.is_empty() {
+            Vec::new()
+        } else {
+            seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f)
+        };
+        for s in residual {
+            if !taken(s, 0.5 * spacing, &avoid) {
+                pending.push((s, &residual_offsets[..], residual_step));
+                avoid.push(s);
+            }
+        }
+        if pending.is_empty() {
+            break;
+        }
         let levels = Levels {
             fine: dark,
             fine_explained: &explained,
@@ -82,78 +118,63 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             factor: f,
             period: params.shape.symmetry_period(),
         };
-        let mut tasks: Vec<((f64, f64), &[(f64, f64)], f64)> = Vec::new();
-        if round == 0 {
-            tasks.extend(hole_seeds.iter().map(|&s| (s, &centre_only[..], 1.0)));
-        }
-        let residual =
-            seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f);
-        let near_found = |s: (f64, f64)| {
-            found
-                .iter()
-                .any(|g| (g.pose.x - s.0).hypot(g.pose.y - s.1) < 0.3 * width)
-        };
-        tasks.extend(
-            residual
-                .into_iter()
-                .filter(|&s| !near_found(s))
-                .map(|s| (s, &residual_offsets[..], (0.15 * width).max(f))),
-        );
-        if tasks.is_empty() {
-            break;
-        }
-        let mut fits: Vec<fit::Fitted> = tasks
+        let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
-            .map(|&(seed, offsets, step)| fit::fit(&levels, seed, offsets, step))
-            .filter(|ft| {
-                ft.score.agreement as f64 >= params.min_confidence
-                    && ft.score.visible as f64 >= params.min_visible
-            })
+            .enumerate()
+            .map(|(k, &(seed, offsets, step))| (k, fit::fit(&levels, seed, offsets, step)))
             .collect();
-        fits.sort_by(|a, b| {
+        fits.sort_by(|(_, a), (_, b)| {
             b.score
                 .total
                 .total_cmp(&a.score.total)
                 .then(a.pose.y.total_cmp(&b.pose.y))
                 .then(a.pose.x.total_cmp(&b.pose.x))
         });
-        let mut accepted = 0;
-        let mut this_round: Vec<Pose> = Vec::new();
-        for ft in fits {
-            // A fit next to a grain accepted in this round was made without knowing it: its
-            // seed comes back in the next round, fitted against the updated explained map.
-            let reach = 2.0 * fine_model.half_length as f64 + 2.0;
-            if this_round
+        let mut this_round: Vec<(f64, f64)> = Vec::new();
+        let mut deferred = Vec::new();
+        for (k, ft) in fits {
+            let seed = pending[k];
+            if (ft.score.agreement as f64) < params.min_confidence
+                || (ft.score.visible as f64) < params.min_visible
+            {
+                failed.push(seed.0);
+                continue;
+            }
+            let centre = (ft.pose.x, ft.pose.y);
+            if found
                 .iter()
-                .any(|p| (p.x - ft.pose.x).hypot(p.y - ft.pose.y) < reach)
+                .any(|g| (g.pose.x - centre.0).hypot(g.pose.y - centre.1) < 0.5 * width)
             {
                 continue;
             }
-            let duplicate = found
-                .iter()
-                .any(|g| (g.pose.x - ft.pose.x).hypot(g.pose.y - ft.pose.y) < 0.5 * width);
-            if duplicate {
-                continue;
-            }
-            // Grains accepted earlier in this round may now explain part of this outline.
             let now = fine_model.score(ft.pose, dark, Some(&explained));
-            if (now.agreement as f64) < params.min_confidence
-                || now.agreement < ft.score.agreement - 0.1
+            // Fitted without knowing a neighbour accepted this round: if that neighbour
+            // takes part of this outline, fit again next round against the updated map.
+            if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
+                && now.total < ft.score.total - 0.02 * ft.score.total.abs()
             {
+                deferred.push(seed);
+                continue;
+            }
+            if (now.agreement as f64) < params.min_confidence {
+                failed.push(seed.0);
                 continue;
             }
             fine_model.paint(ft.pose, &mut explained);
-            this_round.push(ft.pose);
+            this_round.push(centre);
             found.push(Found {
                 pose: ft.pose,
                 corners: fine_model.corners(ft.pose),
                 confidence: now.agreement as f64,
             });
-            accepted += 1;
         }
-        if accepted == 0 {
+        if this_round.is_empty() {
             break;
         }
+        // Failed seeds next to a new grain may now fit: the grain explains what misled them.
+        failed.retain(|s| !taken(*s, reach, &this_round));
+        pending = deferred;
+        coarse_explained = explained.downsample(factor);
     }
     found
 }

@@ -37,10 +37,12 @@ const FINALISTS: usize = 3;
 
 pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: f64) -> Fitted {
     let f = levels.factor;
-    let n_angles = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
-    let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(n_angles * offsets.len());
-    for k in 0..n_angles {
-        let phi = k as f64 * levels.period / n_angles as f64;
+    let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
+    let angles: Vec<f64> = (0..n)
+        .map(|k| k as f64 * levels.period / n as f64)
+        .collect();
+    let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
+    for &phi in &angles {
         let (s, c) = phi.sin_cos();
         for &(a, b) in offsets {
             let x = seed.0 + a * c + b * s;
@@ -72,11 +74,27 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
             }
         }
     }
-    finalists
+    // Finalists compete after a cheap refinement on the coarse level; the winner alone is
+    // refined at full resolution.
+    let coarse_eval = |p: Pose| {
+        let scaled = Pose {
+            x: p.x / f,
+            y: p.y / f,
+            phi: p.phi,
+        };
+        levels
+            .coarse_model
+            .score(scaled, levels.coarse, Some(levels.coarse_explained))
+            .total as f64
+    };
+    let step = position_step.max(f);
+    let winner = finalists
         .into_iter()
-        .map(|p| refine(levels, p, position_step.max(1.0)))
-        .max_by(|a, b| a.score.total.total_cmp(&b.score.total))
+        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 3))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
         .expect("at least one pose is tried")
+        .0;
+    refine(levels, winner, 0.5 * f)
 }
 
 /// Parabolic coordinate refinement at full resolution from a starting pose.
@@ -87,11 +105,32 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
             .score(p, levels.fine, Some(levels.fine_explained))
             .total as f64
     };
+    let (pose, _) = climb(
+        &eval,
+        start,
+        position_step.max(0.5),
+        0.25 * COARSE_ANGLE_STEP,
+        4,
+    );
+    let score = levels
+        .fine_model
+        .score(pose, levels.fine, Some(levels.fine_explained));
+    Fitted { pose, score }
+}
+
+/// Successive parabolic steps along x, y and the angle, halving the steps each sweep.
+fn climb(
+    eval: &dyn Fn(Pose) -> f64,
+    start: Pose,
+    position_step: f64,
+    angle_step: f64,
+    sweeps: usize,
+) -> (Pose, f64) {
     let mut pose = start;
     let mut value = eval(pose);
     let mut hx = position_step;
-    let mut ha = 0.5 * COARSE_ANGLE_STEP;
-    for _ in 0..6 {
+    let mut ha = angle_step;
+    for _ in 0..sweeps {
         for axis in 0..3 {
             let h = if axis == 2 { ha } else { hx };
             let shifted = |d: f64| {
@@ -129,8 +168,5 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
         hx *= 0.5;
         ha *= 0.5;
     }
-    let score = levels
-        .fine_model
-        .score(pose, levels.fine, Some(levels.fine_explained));
-    Fitted { pose, score }
+    (pose, value)
 }
