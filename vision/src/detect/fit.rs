@@ -33,7 +33,7 @@ const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
 
 /// Coarse poses refined at full resolution: the coarse level cannot resolve a rod's faint
 /// highlight well, so its best few distinct poses compete again at full resolution.
-const FINALISTS: usize = 3;
+const FINALISTS: usize = 6;
 
 pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: f64) -> Fitted {
     let f = levels.factor;
@@ -109,8 +109,8 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
         &eval,
         start,
         position_step.max(0.5),
-        0.25 * COARSE_ANGLE_STEP,
-        4,
+        0.5 * COARSE_ANGLE_STEP,
+        5,
     );
     let score = levels
         .fine_model
