@@ -7,6 +7,7 @@
 pub mod analysis;
 pub mod bench;
 pub mod deposit;
+pub mod detection;
 pub mod grains;
 pub mod impact;
 pub mod io;

@@ -3,6 +3,7 @@
 mod analyse;
 mod bench;
 mod compare;
+mod detect;
 mod drop;
 mod progress;
 mod render;
@@ -27,6 +28,8 @@ pub enum Command {
     // Analyse and Compare take their help (with the list of outputs) from their Args' docs.
     Analyse(analyse::Args),
     Compare(compare::Args),
+    /// Find every grain in backlit photographs of deposits; write a deposit table per photo.
+    Detect(detect::Args),
     /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
     /// packing), with its ground-truth table beside it.
     Render(render::Args),
@@ -40,6 +43,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Drop(args) => drop::run(args),
         Command::Analyse(args) => analyse::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Detect(args) => detect::run(args),
         Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }

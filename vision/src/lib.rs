@@ -13,8 +13,10 @@ pub mod detect;
 pub mod evaluate;
 mod grain;
 mod outline;
+pub mod overlay;
 pub mod packing;
 pub mod render;
 
+pub use detect::{DetectError, DetectParams, Detection, detect};
 pub use grain::{Frame, GrainOutline, GrainShape};
 pub use outline::ROUNDING_FRACTION;

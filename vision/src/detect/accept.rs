@@ -1,0 +1,180 @@
+//! Greedy acceptance with explained-pixel bookkeeping: the best fits are accepted first and
+//! paint their outline into an "explained" map; a later fit that would cover explained pixels
+//! loses agreement and is refused or refitted in the next round. Each round seeds new fits
+//! in the dark area no accepted grain explains yet.
+
+use rayon::prelude::*;
+
+use super::DetectParams;
+use super::fit::{self, Levels};
+use super::model::{Model, Pose};
+use super::plane::Plane;
+use super::seeds::{self, BrightBlob};
+use crate::GrainShape;
+
+/// An accepted grain (full-resolution pixels).
+pub struct Found {
+    pub pose: Pose,
+    pub corners: [(f64, f64); 4],
+    pub confidence: f64,
+}
+
+/// A seed to fit: position, offsets to try, first refinement step.
+type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64);
+
+/// Coarse level resolution the pose search runs at (pixels per millimetre).
+const COARSE_PX_PER_MM: f64 = 3.0;
+
+pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) -> Vec<Found> {
+    let px_per_mm = params.scale * 1e-3;
+    let factor = (px_per_mm / COARSE_PX_PER_MM).floor().max(1.0) as usize;
+    let f = factor as f64;
+    let coarse = dark.downsample(factor);
+    let fine_model = Model::new(params.shape, params.scale);
+    let coarse_model = Model::with_softness(params.shape, params.scale / f, 2.0);
+    let length = params.shape.length() * params.scale;
+    let width = params.shape.width() * params.scale;
+
+    // Offsets (grain frame, full-res pixels) around seeds, and the refinement's first step.
+    let (residual_offsets, min_depth, spacing): (Vec<(f64, f64)>, f64, f64) = match params.shape {
+        GrainShape::Rod { .. } => {
+            // A seed on a rod's axis may sit anywhere along it, a little off it across.
+            let half = 0.5 * length;
+            let along =
+                [-1.0, -2.0 / 3.0, -1.0 / 3.0, 0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0].map(|k| k * half);
+            let across = [-0.5, -0.25, 0.0, 0.25, 0.5].map(|k| k * width);
+            let offs = along
+                .iter()
+                .flat_map(|&a| across.iter().map(move |&b| (a, b)))
+                .collect();
+            (offs, 0.3 * width, 0.8 * width)
+        }
+        GrainShape::Square {
+            side,
+            hole_diameter,
+        } => {
+            // A seed in the ring between hole and edge may be far from the centre.
+            let steps = [-0.3, -0.15, 0.0, 0.15, 0.3].map(|k| k * width);
+            let offs = steps
+                .iter()
+                .flat_map(|&a| steps.iter().map(move |&b| (a, b)))
+                .collect();
+            let ring = 0.5 * (side - hole_diameter) * params.scale;
+            (offs, 0.25 * ring, 0.5 * width)
+        }
+    };
+    let hole_seeds = match params.shape {
+        GrainShape::Square { hole_diameter, .. } => {
+            seeds::hole_seeds(blobs, 0.5 * hole_diameter * params.scale)
+        }
+        GrainShape::Rod { .. } => Vec::new(),
+    };
+    let centre_only = [(0.0, 0.0)];
+
+    let residual_step = (0.15 * width).max(f);
+    let mut explained = Plane::new(dark.width, dark.height, 0.0);
+    let mut found: Vec<Found> = Vec::new();
+    // Seeds to fit this round: position, offsets to try, first refinement step.
+    let mut pending: Vec<Task> = hole_seeds
+        .iter()
+        .map(|&s| (s, &centre_only[..], 1.0))
+        .collect();
+    // Seeds whose fit failed, retried only when a grain is accepted next to them.
+    let mut failed: Vec<(f64, f64)> = Vec::new();
+    // Two outlines closer than this may overlap: a fit made before its neighbour was
+    // accepted is redone.
+    let reach = length.hypot(width) + 2.0;
+    let mut coarse_explained = explained.downsample(factor);
+    for round in 0..params.max_rounds.max(1) {
+        let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
+            list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
+        };
+        let mut avoid: Vec<(f64, f64)> = pending.iter().map(|t| t.0).collect();
+        avoid.extend(failed.iter().copied());
+        avoid.extend(found.iter().map(|g| (g.pose.x, g.pose.y)));
+        // Holes pin nuts exactly: fit those first, so that the residual seeds of later rounds
+        // only go where a nut's hole was not seen.
+        let residual = if round == 0 && !pending.is_empty() {
+            Vec::new()
+        } else {
+            seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f)
+        };
+        for s in residual {
+            if !taken(s, 0.5 * spacing, &avoid) {
+                pending.push((s, &residual_offsets[..], residual_step));
+                avoid.push(s);
+            }
+        }
+        if pending.is_empty() {
+            break;
+        }
+        let levels = Levels {
+            fine: dark,
+            fine_explained: &explained,
+            coarse: &coarse,
+            coarse_explained: &coarse_explained,
+            fine_model,
+            coarse_model,
+            factor: f,
+            period: params.shape.symmetry_period(),
+        };
+        let mut fits: Vec<(usize, fit::Fitted)> = pending
+            .par_iter()
+            .enumerate()
+            .map(|(k, &(seed, offsets, step))| (k, fit::fit(&levels, seed, offsets, step)))
+            .collect();
+        fits.sort_by(|(_, a), (_, b)| {
+            b.score
+                .total
+                .total_cmp(&a.score.total)
+                .then(a.pose.y.total_cmp(&b.pose.y))
+                .then(a.pose.x.total_cmp(&b.pose.x))
+        });
+        let mut this_round: Vec<(f64, f64)> = Vec::new();
+        let mut deferred = Vec::new();
+        for (k, ft) in fits {
+            let seed = pending[k];
+            if (ft.score.agreement as f64) < params.min_confidence
+                || (ft.score.visible as f64) < params.min_visible
+            {
+                failed.push(seed.0);
+                continue;
+            }
+            let centre = (ft.pose.x, ft.pose.y);
+            if found
+                .iter()
+                .any(|g| (g.pose.x - centre.0).hypot(g.pose.y - centre.1) < 0.5 * width)
+            {
+                continue;
+            }
+            let now = fine_model.score(ft.pose, dark, Some(&explained));
+            // Fitted without knowing a neighbour accepted this round: if that neighbour
+            // takes part of this outline, fit again next round against the updated map.
+            if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
+                && now.total < ft.score.total - 0.02 * ft.score.total.abs()
+            {
+                deferred.push(seed);
+                continue;
+            }
+            if (now.agreement as f64) < params.min_confidence {
+                failed.push(seed.0);
+                continue;
+            }
+            fine_model.paint(ft.pose, &mut explained);
+            this_round.push(centre);
+            found.push(Found {
+                pose: ft.pose,
+                corners: fine_model.corners(ft.pose),
+                confidence: now.agreement as f64,
+            });
+        }
+        if this_round.is_empty() {
+            break;
+        }
+        // Failed seeds next to a new grain may now fit: the grain explains what misled them.
+        failed.retain(|s| !taken(*s, reach, &this_round));
+        pending = deferred;
+        coarse_explained = explained.downsample(factor);
+    }
+    found
+}

@@ -1,0 +1,172 @@
+//! Pose fit of one candidate: a coarse search over angle and position on the downsampled
+//! darkness, then sub-pixel, sub-degree refinement on the full-resolution darkness by
+//! successive parabolic steps along x, y and the angle.
+
+use super::model::{Model, Pose, Score};
+use super::plane::Plane;
+
+/// The two resolution levels a fit works on.
+pub struct Levels<'a> {
+    pub fine: &'a Plane,
+    pub fine_explained: &'a Plane,
+    pub coarse: &'a Plane,
+    pub coarse_explained: &'a Plane,
+    pub fine_model: Model,
+    pub coarse_model: Model,
+    /// Downsampling factor between the levels.
+    pub factor: f64,
+    /// Rotation after which the outline looks the same (radians).
+    pub period: f64,
+}
+
+/// Positions tried around a seed, in the grain's own frame (along, across the long axis;
+/// full-resolution pixels): a seed on a rod's axis may sit anywhere along it.
+pub type Offsets = [(f64, f64)];
+
+pub struct Fitted {
+    pub pose: Pose,
+    pub score: Score,
+}
+
+/// Coarse angle step (radians): fine enough that the refinement starts inside the basin.
+const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
+
+/// Coarse poses refined at full resolution: the coarse level cannot resolve a rod's faint
+/// highlight well, so its best few distinct poses compete again at full resolution.
+const FINALISTS: usize = 6;
+
+pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: f64) -> Fitted {
+    let f = levels.factor;
+    let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
+    let angles: Vec<f64> = (0..n)
+        .map(|k| k as f64 * levels.period / n as f64)
+        .collect();
+    let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
+    for &phi in &angles {
+        let (s, c) = phi.sin_cos();
+        for &(a, b) in offsets {
+            let x = seed.0 + a * c + b * s;
+            let y = seed.1 - a * s + b * c;
+            let pose = Pose {
+                x: x / f,
+                y: y / f,
+                phi,
+            };
+            let sc = levels
+                .coarse_model
+                .score(pose, levels.coarse, Some(levels.coarse_explained));
+            tried.push((sc.total, Pose { x, y, phi }));
+        }
+    }
+    tried.sort_by(|a, b| b.0.total_cmp(&a.0));
+    let distinct = 0.3 * levels.fine_model.half_width as f64;
+    let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS);
+    for (_, p) in tried {
+        let far = finalists.iter().all(|q| {
+            let dphi = (p.phi - q.phi).rem_euclid(levels.period);
+            let dphi = dphi.min(levels.period - dphi);
+            dphi > 2.0 * COARSE_ANGLE_STEP || (p.x - q.x).hypot(p.y - q.y) > distinct
+        });
+        if far {
+            finalists.push(p);
+            if finalists.len() == FINALISTS {
+                break;
+            }
+        }
+    }
+    // Finalists compete after a cheap refinement on the coarse level; the winner alone is
+    // refined at full resolution.
+    let coarse_eval = |p: Pose| {
+        let scaled = Pose {
+            x: p.x / f,
+            y: p.y / f,
+            phi: p.phi,
+        };
+        levels
+            .coarse_model
+            .score(scaled, levels.coarse, Some(levels.coarse_explained))
+            .total as f64
+    };
+    let step = position_step.max(f);
+    let winner = finalists
+        .into_iter()
+        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 3))
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+        .expect("at least one pose is tried")
+        .0;
+    refine(levels, winner, 0.5 * f)
+}
+
+/// Parabolic coordinate refinement at full resolution from a starting pose.
+pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
+    let eval = |p: Pose| {
+        levels
+            .fine_model
+            .score(p, levels.fine, Some(levels.fine_explained))
+            .total as f64
+    };
+    let (pose, _) = climb(
+        &eval,
+        start,
+        position_step.max(0.5),
+        0.5 * COARSE_ANGLE_STEP,
+        5,
+    );
+    let score = levels
+        .fine_model
+        .score(pose, levels.fine, Some(levels.fine_explained));
+    Fitted { pose, score }
+}
+
+/// Successive parabolic steps along x, y and the angle, halving the steps each sweep.
+fn climb(
+    eval: &dyn Fn(Pose) -> f64,
+    start: Pose,
+    position_step: f64,
+    angle_step: f64,
+    sweeps: usize,
+) -> (Pose, f64) {
+    let mut pose = start;
+    let mut value = eval(pose);
+    let mut hx = position_step;
+    let mut ha = angle_step;
+    for _ in 0..sweeps {
+        for axis in 0..3 {
+            let h = if axis == 2 { ha } else { hx };
+            let shifted = |d: f64| {
+                let mut p = pose;
+                match axis {
+                    0 => p.x += d,
+                    1 => p.y += d,
+                    _ => p.phi += d,
+                }
+                p
+            };
+            let minus = eval(shifted(-h));
+            let plus = eval(shifted(h));
+            let curvature = minus - 2.0 * value + plus;
+            let step = if curvature < 0.0 {
+                (0.5 * h * (minus - plus) / curvature).clamp(-h, h)
+            } else if plus > minus {
+                h
+            } else {
+                -h
+            };
+            let candidate = shifted(step);
+            let v = eval(candidate);
+            if v > value {
+                pose = candidate;
+                value = v;
+            } else if plus > value && plus >= minus {
+                pose = shifted(h);
+                value = plus;
+            } else if minus > value {
+                pose = shifted(-h);
+                value = minus;
+            }
+        }
+        hx *= 0.5;
+        ha *= 0.5;
+    }
+    (pose, value)
+}
