@@ -85,7 +85,7 @@ fn cut_grains_neither_missed_nor_false() {
         .iter()
         .enumerate()
         .filter(|(i, _)| *i != 3)
-        .map(|(_, d)| d.clone())
+        .map(|(_, d)| *d)
         .collect();
     assert_eq!(score(&truth, &without).recall(), 1.0);
 }
