@@ -150,7 +150,7 @@ impl World {
                 a.radius += half_skin;
                 b.radius += half_skin;
                 let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                core_core_sub_contacts(&a, &b, &[], &mut found);
+                core_core_sub_contacts(&a, &b, std::iter::empty, &mut found);
                 !found.is_empty()
             };
             let g = &this.grains;
@@ -248,7 +248,8 @@ impl World {
                         return;
                     }
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                    core_core_sub_contacts(&first, &second, &contact.features(), &mut found);
+                    let previous = || contact.subs.iter().map(|s| s.features);
+                    core_core_sub_contacts(&first, &second, previous, &mut found);
                     let kinematics = (this.kinematics(i), this.kinematics(j));
                     resolve(contact, &found, kinematics, this, would_be);
                 });

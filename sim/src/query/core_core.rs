@@ -32,19 +32,24 @@ struct Touch {
 ///   along the outward normal of one edge: the one it had last step, while it stays within
 ///   reach of it, so the normal does not flip as the vertex crosses the core's middle.
 ///
-/// `previous` lists the features touching at the last step.
-pub fn core_core_sub_contacts(
+/// `previous` lists the features touching at the last step; it is read only for a vertex
+/// found inside the other core, which is rare.
+pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
     first: &PlacedCore,
     second: &PlacedCore,
-    previous: &[Features],
+    previous: impl Fn() -> I,
     out: &mut SmallVec<[SubContact; 4]>,
 ) {
     let cutoff = first.radius + second.radius;
     for k in 0..first.len() {
-        let preferred = previous.iter().find_map(|f| match *f {
-            Features::VertexEdge { vertex, edge } if vertex as usize == k => Some(edge as usize),
-            _ => None,
-        });
+        let preferred = || {
+            previous().find_map(|f| match f {
+                Features::VertexEdge { vertex, edge } if vertex as usize == k => {
+                    Some(edge as usize)
+                }
+                _ => None,
+            })
+        };
         vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
                 Foot::Edge(e) => Features::VertexEdge {
@@ -67,10 +72,14 @@ pub fn core_core_sub_contacts(
         });
     }
     for m in 0..second.len() {
-        let preferred = previous.iter().find_map(|f| match *f {
-            Features::EdgeVertex { edge, vertex } if vertex as usize == m => Some(edge as usize),
-            _ => None,
-        });
+        let preferred = || {
+            previous().find_map(|f| match f {
+                Features::EdgeVertex { edge, vertex } if vertex as usize == m => {
+                    Some(edge as usize)
+                }
+                _ => None,
+            })
+        };
         vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
             let Foot::Edge(e) = touch.foot else { return };
             let p = second.vertices[m];
@@ -124,7 +133,7 @@ fn vertex_against_core(
     core: &PlacedCore,
     cutoff: f64,
     vertex_vertex: bool,
-    preferred_edge: Option<usize>,
+    preferred_edge: impl FnOnce() -> Option<usize>,
     mut emit: impl FnMut(Touch),
 ) {
     let p = owner.vertices[k];
@@ -138,12 +147,17 @@ fn vertex_against_core(
     // Signed distance from each edge line. The distance to a convex core is at least the
     // largest of them, so one beyond the cutoff rules the vertex out: most vertices of a pair
     // face away from the other grain and stop here after an edge or two.
+    // Kept for the second loop (most cores have few vertices).
+    let mut signed = [0.0f64; 8];
     let mut nearest_edge = 0;
     let mut nearest_distance = f64::NEG_INFINITY;
     for e in 0..n {
         let s = (p - core.vertices[e]).dot(&core.normal(e));
         if s >= cutoff {
             return;
+        }
+        if e < signed.len() {
+            signed[e] = s;
         }
         if s > nearest_distance {
             nearest_distance = s;
@@ -153,7 +167,7 @@ fn vertex_against_core(
     if nearest_distance <= 0.0 {
         // Inside the core: every edge line has the vertex on its inner side.
         let mut edge = nearest_edge;
-        if let Some(e) = preferred_edge.filter(|&e| e < n) {
+        if let Some(e) = preferred_edge().filter(|&e| e < n) {
             if (p - core.vertices[e]).dot(&core.normal(e)) > nearest_distance - cutoff {
                 edge = e;
             }
@@ -175,7 +189,11 @@ fn vertex_against_core(
         let rel = p - a;
         let along = rel.dot(&core.directions[e]);
         if along > 0.0 && along < core.lengths[e] {
-            let s = rel.dot(&core.normal(e));
+            let s = if e < signed.len() {
+                signed[e]
+            } else {
+                rel.dot(&core.normal(e))
+            };
             if s >= 0.0 {
                 emit(Touch {
                     foot: Foot::Edge(e),
@@ -258,7 +276,7 @@ mod tests {
 
     fn contacts(a: &Placed, b: &Placed) -> SmallVec<[SubContact; 4]> {
         let mut out = SmallVec::new();
-        core_core_sub_contacts(&a.core(), &b.core(), &[], &mut out);
+        core_core_sub_contacts(&a.core(), &b.core(), std::iter::empty, &mut out);
         out
     }
 
@@ -378,13 +396,18 @@ mod tests {
             assert_eq!(hits.len(), 1, "{c:?}");
             hits[0]
         };
-        core_core_sub_contacts(&top.core(), &bottom.core(), &remembered, &mut out);
+        core_core_sub_contacts(
+            &top.core(),
+            &bottom.core(),
+            || remembered.iter().copied(),
+            &mut out,
+        );
         let kept = of_tip(&out);
         assert!(kept.normal.y > 0.99, "{kept:?}");
         assert!((kept.overlap - (0.2 + tip_depth)).abs() < 1e-12);
         // Without memory the nearest face (the bottom one) would pull it through.
         let mut fresh = SmallVec::new();
-        core_core_sub_contacts(&top.core(), &bottom.core(), &[], &mut fresh);
+        core_core_sub_contacts(&top.core(), &bottom.core(), std::iter::empty, &mut fresh);
         assert!(of_tip(&fresh).normal.y < -0.99);
     }
 }
