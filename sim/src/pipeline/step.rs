@@ -232,12 +232,19 @@ impl World {
     fn compute_forces(&mut self) {
         let mut pair_contacts = std::mem::take(&mut self.pair_contacts);
         let mut wall_contacts = std::mem::take(&mut self.wall_contacts);
+        // The gather below reads only these compact copies of each contact's push: they fit
+        // in cache where the contacts with their histories do not.
+        let mut pair_push = std::mem::take(&mut self.pair_push);
+        let mut wall_push = std::mem::take(&mut self.wall_push);
+        pair_push.resize(pair_contacts.len(), Push::default());
+        wall_push.resize(wall_contacts.len(), Push::default());
         {
             let this = &*self;
             pair_contacts
                 .par_iter_mut()
+                .zip(pair_push.par_iter_mut())
                 .zip(&this.verlet.pairs)
-                .for_each(|(contact, &[i, j])| {
+                .for_each(|((contact, push), &[i, j])| {
                     let (i, j) = (i as usize, j as usize);
                     let (first, second) = (this.placed(i), this.placed(j));
                     let would_be = |f: Features| feature_overlap(&first, &second, f);
@@ -245,6 +252,7 @@ impl World {
                     let g = &this.grains;
                     if (g.position[i] - g.position[j]).norm_squared() >= reach * reach {
                         contact.clear(&this.settings.law, would_be);
+                        *push = Push::default();
                         return;
                     }
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
@@ -252,11 +260,13 @@ impl World {
                     core_core_sub_contacts(&first, &second, previous, &mut found);
                     let kinematics = (this.kinematics(i), this.kinematics(j));
                     resolve(contact, &found, kinematics, this, would_be);
+                    *push = Push::of(contact);
                 });
             wall_contacts
                 .par_iter_mut()
+                .zip(wall_push.par_iter_mut())
                 .zip(&this.verlet.wall_pairs)
-                .for_each(|(contact, &[i, k])| {
+                .for_each(|((contact, push), &[i, k])| {
                     let (i, k) = (i as usize, k as usize);
                     let (core, wall) = (this.placed(i), &this.walls[k]);
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
@@ -265,6 +275,7 @@ impl World {
                     resolve(contact, &found, kinematics, this, |f| {
                         wall_feature_overlap(&core, wall, f)
                     });
+                    *push = Push::of(contact);
                 });
         }
         let gravity = self.settings.gravity;
@@ -284,7 +295,7 @@ impl World {
                 if mobile[i] {
                     f = gravity * mass[i];
                     for &(k, first) in pairs.of(i) {
-                        let c = &pair_contacts[k as usize];
+                        let c = &pair_push[k as usize];
                         if first {
                             f += c.force;
                             t += c.torque_first;
@@ -294,7 +305,7 @@ impl World {
                         }
                     }
                     for &(k, _) in walls.of(i) {
-                        let c = &wall_contacts[k as usize];
+                        let c = &wall_push[k as usize];
                         f += c.force;
                         t += c.torque_first;
                     }
@@ -304,6 +315,26 @@ impl World {
             });
         self.pair_contacts = pair_contacts;
         self.wall_contacts = wall_contacts;
+        self.pair_push = pair_push;
+        self.wall_push = wall_push;
+    }
+}
+
+/// What a contact does to its two bodies this step.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Push {
+    force: Vec2,
+    torque_first: f64,
+    torque_second: f64,
+}
+
+impl Push {
+    fn of(contact: &PairContact) -> Self {
+        Self {
+            force: contact.force,
+            torque_first: contact.torque_first,
+            torque_second: contact.torque_second,
+        }
     }
 }
 
