@@ -9,6 +9,9 @@ pub struct Grains {
     pub shape: Vec<u32>,
     pub position: Vec<Vec2>,
     pub angle: Vec<f64>,
+    /// (cos, sin) of the angle, advanced with the angle by small rotations so the step needs
+    /// no trigonometric call; it differs from the angle by rounding only (~1e-16 per step).
+    pub rotation: Vec<(f64, f64)>,
     pub velocity: Vec<Vec2>,
     pub angular_velocity: Vec<f64>,
     pub force: Vec<Vec2>,

@@ -232,6 +232,7 @@ impl World {
         g.shape.push(shape.0 as u32);
         g.position.push(state.position);
         g.angle.push(state.angle);
+        g.rotation.push(unit(state.angle));
         g.mass.push(entry.mass);
         g.inertia.push(entry.inertia);
         if mobile {
@@ -323,7 +324,7 @@ impl World {
         use std::mem::size_of;
         let g = &self.grains;
         let per_grain = g.position.capacity() * (3 * size_of::<Vec2>())
-            + g.angle.capacity() * (6 * size_of::<f64>())
+            + g.angle.capacity() * (8 * size_of::<f64>())
             + g.shape.capacity() * size_of::<u32>()
             + self.reach.capacity() * size_of::<f64>()
             + self.mobile.capacity();
@@ -393,6 +394,7 @@ impl World {
         let g = &mut self.grains;
         g.position[i] = state.position;
         g.angle[i] = state.angle;
+        g.rotation[i] = unit(state.angle);
         if self.mobile[i] {
             g.velocity[i] = state.velocity;
             g.angular_velocity[i] = state.angular_velocity;
@@ -457,4 +459,10 @@ impl World {
         }
         e
     }
+}
+
+/// (cos, sin) of an angle.
+fn unit(angle: f64) -> (f64, f64) {
+    let (sin, cos) = angle.sin_cos();
+    (cos, sin)
 }
