@@ -7,8 +7,10 @@
 pub mod analysis;
 pub mod bench;
 pub mod deposit;
+pub mod fill;
 pub mod grains;
 pub mod impact;
 pub mod io;
 pub mod photo;
 pub mod plot;
+pub mod scene;

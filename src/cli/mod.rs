@@ -6,6 +6,7 @@ mod compare;
 mod drop;
 mod progress;
 mod render;
+mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -27,6 +28,7 @@ pub enum Command {
     // Analyse and Compare take their help (with the list of outputs) from their Args' docs.
     Analyse(analyse::Args),
     Compare(compare::Args),
+    Sim(sim::Args),
     /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
     /// packing), with its ground-truth table beside it.
     Render(render::Args),
@@ -40,6 +42,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Drop(args) => drop::run(args),
         Command::Analyse(args) => analyse::run(args),
         Command::Compare(args) => compare::run(args),
+        Command::Sim(args) => sim::run(args),
         Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
