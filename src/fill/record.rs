@@ -37,6 +37,14 @@ pub struct RunRecord {
     pub deposit_height_mm: f64,
     /// True when the deposit reaches above the silo's height.
     pub overflow: bool,
+    /// Total weight of the grains (N).
+    pub weight_n: f64,
+    /// Force the grains exert on the floor, the left and the right wall, [x, y] (N).
+    pub floor_load_n: [f64; 2],
+    pub left_wall_load_n: [f64; 2],
+    pub right_wall_load_n: [f64; 2],
+    /// Deepest overlap of any grain-grain or grain-wall sub-contact at the end (mm).
+    pub deepest_overlap_mm: f64,
 }
 
 /// Final energies (J).

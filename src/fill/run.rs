@@ -1,3 +1,4 @@
+use std::collections::VecDeque;
 use std::path::Path;
 use std::time::Instant;
 
@@ -7,7 +8,7 @@ use sim::{Body, GrainState, Vec2, World};
 use super::outline::Placed;
 use super::output::write_outputs;
 use super::record::{EnergiesRecord, RunRecord};
-use super::silo::Silo;
+use super::silo::{FLOOR, LEFT_WALL, RIGHT_WALL, Silo};
 use super::vtk::write_vtk;
 use crate::scene::{Insertion, Scene};
 
@@ -55,6 +56,8 @@ pub fn fill(
     let mut last_insertion = 0.0;
     let mut stalled_bands = 0usize;
     let mut energy_ratio = f64::NAN;
+    // (time, kinetic, elastic) at the checks of the last `relaxation_hold_s`.
+    let mut window: VecDeque<(f64, f64, f64)> = VecDeque::new();
     let relaxed = loop {
         let world = &silo.world;
         if !silo.feeder.done() && world.time() >= next_band - 0.5 * dt {
@@ -109,8 +112,23 @@ pub fn fill(
             });
             if silo.feeder.done() {
                 let e = world.energies();
-                energy_ratio = e.kinetic / e.elastic;
-                if e.kinetic < scene.run.relaxation_ratio * e.elastic {
+                window.push_back((world.time(), e.kinetic, e.elastic));
+                while window
+                    .front()
+                    .is_some_and(|w| world.time() - w.0 > scene.run.relaxation_hold_s + 0.5 * dt)
+                {
+                    window.pop_front();
+                }
+                let n = window.len() as f64;
+                let kinetic = window.iter().map(|w| w.1).sum::<f64>() / n;
+                let elastic = window.iter().map(|w| w.2).sum::<f64>() / n;
+                energy_ratio = kinetic / elastic;
+                let full = world.time() - window[0].0 >= scene.run.relaxation_hold_s - 0.5 * dt
+                    && world.time() - last_insertion >= scene.run.relaxation_hold_s;
+                if full
+                    && kinetic < scene.run.relaxation_ratio * elastic
+                    && load_imbalance(world) < scene.run.load_balance
+                {
                     break true;
                 }
                 if world.time() - last_insertion > scene.run.max_relaxation_time_s {
@@ -147,6 +165,13 @@ pub fn fill(
         frame_mm: None,
         deposit_height_mm: 0.0,
         overflow: false,
+        weight_n: (0..world.len())
+            .map(|i| world.grains().mass[i] * scene.contact.gravity_m_s2)
+            .sum(),
+        floor_load_n: load(world, FLOOR),
+        left_wall_load_n: load(world, LEFT_WALL),
+        right_wall_load_n: load(world, RIGHT_WALL),
+        deepest_overlap_mm: world.contacts().map(|c| c.overlap).fold(0.0, f64::max) * 1e3,
     };
     record.wall_time_s = start.elapsed().as_secs_f64();
     write_outputs(out, &silo, &mut record)?;
@@ -205,6 +230,19 @@ pub(crate) fn free_surface(world: &World, speed: f64, reach: f64) -> f64 {
         .filter(|g| g.velocity.norm() < SETTLED_SPEED_FRACTION * speed)
         .map(|g| g.position.y + reach)
         .fold(0.0, f64::max)
+}
+
+/// |grains' load on floor and walls - their weight| / weight: zero for a deposit at rest.
+fn load_imbalance(world: &World) -> f64 {
+    let gravity = world.settings().gravity;
+    let mass: f64 = world.grains().mass.iter().sum();
+    let load: Vec2 = (0..world.walls().len()).map(|k| world.wall_load(k)).sum();
+    (load - gravity * mass).norm() / (mass * gravity.norm())
+}
+
+fn load(world: &World, wall: usize) -> [f64; 2] {
+    let f = world.wall_load(wall);
+    [f.x, f.y]
 }
 
 /// Least-squares slope of the cumulative count against time (grains per second).

@@ -220,9 +220,17 @@ pub struct RunSection {
     pub seed: u64,
     /// Time step (s). Default: the engine's, 1/400 of a binary collision of the lightest grains.
     pub time_step_s: Option<f64>,
-    /// The deposit is relaxed when the kinetic energy is below this fraction of the elastic
-    /// energy in the contacts (dimensionless). Default 1e-4 (SPEC §2).
+    /// The deposit is relaxed when its mean kinetic energy is below this fraction of the mean
+    /// elastic energy in the contacts (dimensionless). Default 1e-4 (SPEC §2).
     pub relaxation_ratio: f64,
+    /// The window of the means above (s of simulated time), checks every `check_interval_s`:
+    /// a deposit oscillating as a whole passes through turning points where its kinetic energy
+    /// is small but its forces are out of balance; one check there would stop it too early.
+    pub relaxation_hold_s: f64,
+    /// Relaxed also needs the floor and walls to carry the grains' weight to within this
+    /// fraction (dimensionless): a deposit oscillating as a whole meets the energy criterion
+    /// at small sizes while its net force is still out of balance. Default 0.005.
+    pub load_balance: f64,
     /// Simulated time allowed for relaxation after the last grain is in (s); a deposit still
     /// moving then is written and reported as not relaxed.
     pub max_relaxation_time_s: f64,
@@ -236,6 +244,8 @@ impl Default for RunSection {
             seed: 1,
             time_step_s: None,
             relaxation_ratio: 1e-4,
+            relaxation_hold_s: 0.05,
+            load_balance: 0.005,
             max_relaxation_time_s: 10.0,
             check_interval_s: 1e-3,
         }

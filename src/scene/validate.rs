@@ -161,6 +161,13 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
         r.relaxation_ratio,
         "dimensionless",
     )?;
+    positive(
+        "run",
+        "load_balance",
+        r.load_balance,
+        "fraction of the weight",
+    )?;
+    non_negative("run", "relaxation_hold_s", r.relaxation_hold_s, "s")?;
     positive("run", "max_relaxation_time_s", r.max_relaxation_time_s, "s")?;
     positive("run", "check_interval_s", r.check_interval_s, "s")?;
     if s.output.snapshot_every_steps == Some(0) {
