@@ -62,7 +62,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 bar.set_length((p.expected_end.max(p.time) * 1e3) as u64);
                 bar.set_position((p.time * 1e3) as u64);
                 let phase = if p.relaxing {
-                    format!("relaxing, kinetic/elastic {:.1e}", p.energy_ratio)
+                    format!(
+                        "relaxing, kinetic/elastic {:.1e}, load/weight off by {:.2} %",
+                        p.energy_ratio,
+                        100.0 * p.load_imbalance
+                    )
                 } else {
                     "filling".to_string()
                 };

@@ -22,8 +22,10 @@ pub struct FillProgress {
     /// Guess of the simulated time at the end: the filling time plus a relaxation allowance.
     pub expected_end: f64,
     pub relaxing: bool,
-    /// Kinetic over elastic energy at the last relaxation check (NaN while filling).
+    /// Mean kinetic over mean elastic energy at the last relaxation check (NaN while filling).
     pub energy_ratio: f64,
+    /// |load on floor and walls - weight| / weight at the last check (NaN while filling).
+    pub load_imbalance: f64,
 }
 
 /// A grain slower than this fraction of the inflow speed and touching something has landed.
@@ -32,7 +34,8 @@ const SETTLED_SPEED_FRACTION: f64 = 0.25;
 const RELAXATION_GUESS: f64 = 0.3;
 
 /// Fills the silo of `scene` with the grains of seed `seed`, relaxes the deposit and writes the
-/// run's files into `out` (which must exist). The run is deterministic given scene and seed.
+/// run's files into `out` (created if missing; checked writable before simulating). The run is
+/// deterministic given scene and seed.
 pub fn fill(
     scene: &Scene,
     seed: u64,
@@ -40,6 +43,7 @@ pub fn fill(
     progress: &mut dyn FnMut(FillProgress),
 ) -> anyhow::Result<RunRecord> {
     let start = Instant::now();
+    super::output::check_writable(out)?;
     let mut silo = Silo::new(scene, seed)?;
     let dt = silo.world.time_step();
     let period = silo.feeder.period();
@@ -55,7 +59,7 @@ pub fn fill(
     let mut next_band = 0.0;
     let mut last_insertion = 0.0;
     let mut stalled_bands = 0usize;
-    let mut energy_ratio = f64::NAN;
+    let (mut energy_ratio, mut imbalance) = (f64::NAN, f64::NAN);
     // (time, kinetic, elastic) at the checks of the last `relaxation_hold_s`.
     let mut window: VecDeque<(f64, f64, f64)> = VecDeque::new();
     let relaxed = loop {
@@ -109,13 +113,13 @@ pub fn fill(
                 expected_end: fill_time.max(last_insertion) + RELAXATION_GUESS,
                 relaxing: silo.feeder.done(),
                 energy_ratio,
+                load_imbalance: imbalance,
             });
             if silo.feeder.done() {
                 let e = world.energies();
                 window.push_back((world.time(), e.kinetic, e.elastic));
-                while window
-                    .front()
-                    .is_some_and(|w| world.time() - w.0 > scene.run.relaxation_hold_s + 0.5 * dt)
+                // Keep the newest stretch that spans the hold time, and no more.
+                while window.len() > 1 && world.time() - window[1].0 >= scene.run.relaxation_hold_s
                 {
                     window.pop_front();
                 }
@@ -123,11 +127,11 @@ pub fn fill(
                 let kinetic = window.iter().map(|w| w.1).sum::<f64>() / n;
                 let elastic = window.iter().map(|w| w.2).sum::<f64>() / n;
                 energy_ratio = kinetic / elastic;
-                let full = world.time() - window[0].0 >= scene.run.relaxation_hold_s - 0.5 * dt
-                    && world.time() - last_insertion >= scene.run.relaxation_hold_s;
+                let full = world.time() - window[0].0 >= scene.run.relaxation_hold_s;
+                imbalance = load_imbalance(world);
                 if full
                     && kinetic < scene.run.relaxation_ratio * elastic
-                    && load_imbalance(world) < scene.run.load_balance
+                    && imbalance < scene.run.load_balance
                 {
                     break true;
                 }
