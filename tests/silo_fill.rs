@@ -232,3 +232,35 @@ fn sample_scenes_load_and_their_rain_fits() {
     }
     assert_eq!(n, 28, "the paper's 14 cases at paper scale and small");
 }
+
+#[test]
+fn parallel_realisations_match_single_runs() {
+    // Runs in parallel share the thread pool with the engine's own parallel loops; the files
+    // must not depend on it.
+    let dir = tempfile::tempdir().unwrap();
+    let quick = SMALL
+        .replace("count = 100", "count = 30")
+        .replace("max_relaxation_time_s = 2", "max_relaxation_time_s = 0.01");
+    let scene = write_scene(dir.path(), &quick);
+    let run = |args: &[&str], out: &str| {
+        let o = facets()
+            .arg("sim")
+            .arg(&scene)
+            .args(args)
+            .arg("--out")
+            .arg(dir.path().join(out))
+            .output()
+            .unwrap();
+        // An unrelaxed run still writes its files (and says so).
+        let e = String::from_utf8_lossy(&o.stderr);
+        assert!(e.contains("did not relax") || o.status.success(), "{e}");
+    };
+    run(&["--seed", "5", "--realisations", "2"], "pair");
+    run(&["--seed", "6"], "single");
+    for name in ["deposit.csv", "deposit.contacts.csv"] {
+        let a = std::fs::read(dir.path().join("pair/seed-6").join(name)).unwrap();
+        let b = std::fs::read(dir.path().join("single/seed-6").join(name)).unwrap();
+        assert!(a == b, "{name}: seed 6 differs when run beside seed 5");
+    }
+    assert!(dir.path().join("pair/seed-5/run.json").exists());
+}
