@@ -7,6 +7,7 @@ mod detect;
 mod drop;
 mod progress;
 mod render;
+mod sim;
 
 use clap::{Parser, Subcommand};
 
@@ -30,6 +31,7 @@ pub enum Command {
     Compare(compare::Args),
     /// Find every grain in backlit photographs of deposits; write a deposit table per photo.
     Detect(detect::Args),
+    Sim(sim::Args),
     /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
     /// packing), with its ground-truth table beside it.
     Render(render::Args),
@@ -44,6 +46,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Analyse(args) => analyse::run(args),
         Command::Compare(args) => compare::run(args),
         Command::Detect(args) => detect::run(args),
+        Command::Sim(args) => sim::run(args),
         Command::Render(args) => render::run(args),
         Command::Bench(bench) => bench::run(bench),
     }

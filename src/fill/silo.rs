@@ -1,0 +1,88 @@
+use anyhow::Context;
+use sim::{ShapeId, Spheropolygon, Vec2, Wall, World, WorldSettings};
+
+use super::feeder::{Feeder, Rain};
+use crate::scene::{Insertion, Scene};
+
+/// Wall indices in the world, in the order they are added.
+pub const FLOOR: usize = 0;
+pub const LEFT_WALL: usize = 1;
+pub const RIGHT_WALL: usize = 2;
+
+/// The world of a scene, before any grain: floor and side walls, the grain shape, the feeder.
+pub struct Silo {
+    pub world: World,
+    pub shape: ShapeId,
+    pub feeder: Feeder,
+    pub width: f64,
+    pub height: f64,
+    /// Bounding radius of the grain outline (m).
+    pub reach: f64,
+    pub insertion: Insertion,
+    /// Surface insertion: gap between free surface and band (m).
+    pub gap: f64,
+    /// Fixed insertion: height of the band's bottom (m).
+    pub fixed_bottom: f64,
+}
+
+impl Silo {
+    pub fn new(scene: &Scene, seed: u64) -> anyhow::Result<Self> {
+        let mm = 1e-3;
+        let (width, height) = (scene.silo.width_mm * mm, scene.silo.height_mm * mm);
+        let g = &scene.grains;
+        let mut world = World::new(WorldSettings {
+            law: scene.contact.law(),
+            gravity: Vec2::new(0.0, -scene.contact.gravity_m_s2),
+            time_step: scene.run.time_step_s,
+            ..WorldSettings::default()
+        })
+        .context("in the scene's [contact] or [run] section")?;
+        world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
+        world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
+        world.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))?;
+        let outline =
+            Spheropolygon::rounded_rectangle(g.length(), g.width(), g.rounding() * g.width())
+                .context("in the scene's [grains] section")?;
+        let (reach, area) = (outline.bounding_radius(), outline.area());
+        let shape = world
+            .add_shape(outline, g.areal_density())
+            .context("in the scene's [grains] or [run] section")?;
+        let band_height = scene.feed.band_height_mm.map_or(8.0 * reach, |h| h * mm);
+        let feeder = Feeder::new(
+            Rain {
+                silo_width: width,
+                half: [g.length() / 2.0, g.width() / 2.0],
+                grain_area: area,
+                phi0: scene.feed.phi0,
+                speed: scene.feed.speed_m_s,
+                band_height,
+                total: g.count,
+            },
+            seed,
+        );
+        if let Err(largest) = feeder.check_feasible(seed) {
+            anyhow::bail!(
+                "field `feed.phi0` is {}: a band {:.1} mm high across the {:.1} mm silo cannot hold that many non-overlapping grains; the largest feasible phi0 is about {:.3}",
+                scene.feed.phi0,
+                2.0 * band_height / mm,
+                width / mm,
+                (largest * 1000.0).floor() / 1000.0
+            );
+        }
+        let fixed_bottom = scene
+            .feed
+            .fixed_height_mm
+            .map_or(height - band_height, |h| h * mm);
+        Ok(Self {
+            world,
+            shape,
+            feeder,
+            width,
+            height,
+            reach,
+            insertion: scene.feed.insertion,
+            gap: scene.feed.gap_mm * mm,
+            fixed_bottom,
+        })
+    }
+}

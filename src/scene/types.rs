@@ -1,0 +1,274 @@
+use serde::{Deserialize, Serialize};
+use sim::ContactLaw;
+
+use crate::grains::{DEFAULT_ROUNDING, GrainKind};
+
+const MM: f64 = 1e-3;
+
+/// A whole scene file.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    #[serde(default)]
+    pub silo: SiloSection,
+    pub grains: GrainSection,
+    pub feed: FeedSection,
+    #[serde(default)]
+    pub contact: ContactSection,
+    #[serde(default)]
+    pub run: RunSection,
+    #[serde(default)]
+    pub output: OutputSection,
+}
+
+/// `[silo]`: the box the grains fill.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SiloSection {
+    /// Distance between the side walls (mm); the paper's simulations use 256 mm.
+    pub width_mm: f64,
+    /// Height of the side walls (mm); a deposit reaching above it is reported as overflowing.
+    pub height_mm: f64,
+    /// How the floor and side walls are built: only "flat" (half-planes with the grains'
+    /// contact law) for now.
+    pub walls: WallKind,
+}
+
+impl Default for SiloSection {
+    fn default() -> Self {
+        Self {
+            width_mm: 256.0,
+            height_mm: 750.0,
+            walls: WallKind::Flat,
+        }
+    }
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum WallKind {
+    /// Floor and side walls are half-planes.
+    Flat,
+}
+
+/// Grain kinds as written in scenes (the names of the command line).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SceneGrainKind {
+    #[serde(rename = "square", alias = "squares")]
+    Square,
+    #[serde(rename = "rod53", alias = "short-rod")]
+    ShortRod,
+    #[serde(rename = "rod3", alias = "long-rod")]
+    LongRod,
+}
+
+impl From<SceneGrainKind> for GrainKind {
+    fn from(k: SceneGrainKind) -> Self {
+        match k {
+            SceneGrainKind::Square => GrainKind::Square,
+            SceneGrainKind::ShortRod => GrainKind::ShortRod,
+            SceneGrainKind::LongRod => GrainKind::LongRod,
+        }
+    }
+}
+
+/// `[grains]`: one kind of grain, with optional overrides of the kind's outline and density.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GrainSection {
+    /// "square" (6.9 x 6.9 mm nut), "rod53" (4.9 x 3 mm) or "rod3" (8.9 x 3 mm).
+    pub kind: SceneGrainKind,
+    /// Number of grains poured.
+    pub count: usize,
+    /// Outline length L, the long side (mm). Default: the kind's.
+    #[serde(default)]
+    pub length_mm: Option<f64>,
+    /// Outline width D, the short side (mm). Default: the kind's.
+    #[serde(default)]
+    pub width_mm: Option<f64>,
+    /// Rounding radius as a fraction of the width D (dimensionless). Default 0.05.
+    #[serde(default)]
+    pub rounding_fraction: Option<f64>,
+    /// Mass per outline area (kg/m^2). Default: nuts 20.3, rods 18.5 (SPEC §2).
+    #[serde(default)]
+    pub areal_density_kg_m2: Option<f64>,
+}
+
+impl GrainSection {
+    pub fn grain_kind(&self) -> GrainKind {
+        self.kind.into()
+    }
+
+    /// Length L (m).
+    pub fn length(&self) -> f64 {
+        self.length_mm
+            .map_or_else(|| self.grain_kind().length(), |v| v * MM)
+    }
+
+    /// Width D (m).
+    pub fn width(&self) -> f64 {
+        self.width_mm
+            .map_or_else(|| self.grain_kind().width(), |v| v * MM)
+    }
+
+    pub fn rounding(&self) -> f64 {
+        self.rounding_fraction.unwrap_or(DEFAULT_ROUNDING)
+    }
+
+    pub fn areal_density(&self) -> f64 {
+        self.areal_density_kg_m2
+            .unwrap_or_else(|| self.grain_kind().areal_density())
+    }
+}
+
+/// `[feed]`: the rain of grains.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FeedSection {
+    /// Volume (area) fraction of the falling rain (dimensionless, 0 < phi0 < 1).
+    pub phi0: f64,
+    /// Downward speed of the inserted grains (m/s). Default 3.5, the speed measured where the
+    /// deposit forms.
+    #[serde(default = "default_speed")]
+    pub speed_m_s: f64,
+    /// "surface": the insertion band follows the free surface at `gap_mm` (no long fall is
+    /// simulated); "fixed": the band stays at `fixed_height_mm`.
+    #[serde(default)]
+    pub insertion: Insertion,
+    /// Gap between the free surface (the top of the highest settled grain) and the bottom of
+    /// the insertion band (mm), "surface" insertion only. Default 20.
+    #[serde(default = "default_gap")]
+    pub gap_mm: f64,
+    /// Height of the insertion band's bottom above the floor (mm), "fixed" insertion only.
+    /// Default: the silo height less the band height.
+    #[serde(default)]
+    pub fixed_height_mm: Option<f64>,
+    /// Height of the insertion band (mm). Default: four bounding diameters of the grain.
+    #[serde(default)]
+    pub band_height_mm: Option<f64>,
+}
+
+fn default_speed() -> f64 {
+    3.5
+}
+
+fn default_gap() -> f64 {
+    20.0
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Insertion {
+    #[default]
+    Surface,
+    Fixed,
+}
+
+/// `[contact]`: the contact law of SPEC §2 and gravity. Defaults are the paper's.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ContactSection {
+    /// k_N (N/m).
+    #[serde(rename = "normal_stiffness_N_m")]
+    pub normal_stiffness: f64,
+    /// k_T (N/m).
+    #[serde(rename = "tangential_stiffness_N_m")]
+    pub tangential_stiffness: f64,
+    /// gamma_N (1/s).
+    #[serde(rename = "normal_damping_1_s")]
+    pub normal_damping: f64,
+    /// gamma_T (1/s).
+    #[serde(rename = "tangential_damping_1_s")]
+    pub tangential_damping: f64,
+    /// Coulomb friction coefficient mu (dimensionless), grains and walls alike.
+    pub friction: f64,
+    /// Acceleration of gravity (m/s^2), pointing down.
+    pub gravity_m_s2: f64,
+}
+
+impl Default for ContactSection {
+    fn default() -> Self {
+        let law = ContactLaw::default();
+        Self {
+            normal_stiffness: law.normal_stiffness,
+            tangential_stiffness: law.tangential_stiffness,
+            normal_damping: law.normal_damping,
+            tangential_damping: law.tangential_damping,
+            friction: law.friction,
+            gravity_m_s2: 10.0,
+        }
+    }
+}
+
+impl ContactSection {
+    pub fn law(&self) -> ContactLaw {
+        ContactLaw {
+            normal_stiffness: self.normal_stiffness,
+            tangential_stiffness: self.tangential_stiffness,
+            normal_damping: self.normal_damping,
+            tangential_damping: self.tangential_damping,
+            friction: self.friction,
+        }
+    }
+}
+
+/// `[run]`: seed, time step and when to stop.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct RunSection {
+    /// Seed of the feeder's random positions and orientations (`--seed` overrides it).
+    pub seed: u64,
+    /// Time step (s). Default: the engine's, 1/400 of a binary collision of the lightest grains.
+    pub time_step_s: Option<f64>,
+    /// The deposit is relaxed when its mean kinetic energy is below this fraction of the mean
+    /// elastic energy in the contacts (dimensionless). Default 1e-4 (SPEC §2).
+    pub relaxation_ratio: f64,
+    /// The window of the means above (s of simulated time), checks every `check_interval_s`:
+    /// a deposit oscillating as a whole passes through turning points where its kinetic energy
+    /// is small but its forces are out of balance; one check there would stop it too early.
+    pub relaxation_hold_s: f64,
+    /// Relaxed also needs the floor and walls to carry the grains' weight to within this
+    /// fraction (dimensionless): a deposit oscillating as a whole meets the energy criterion
+    /// at small sizes while its net force is still out of balance. Default 0.005.
+    pub load_balance: f64,
+    /// Simulated time allowed for relaxation after the last grain is in (s); a deposit still
+    /// moving then is written and reported as not relaxed.
+    pub max_relaxation_time_s: f64,
+    /// Interval between two relaxation checks (s of simulated time).
+    pub check_interval_s: f64,
+}
+
+impl Default for RunSection {
+    fn default() -> Self {
+        Self {
+            seed: 1,
+            time_step_s: None,
+            relaxation_ratio: 1e-4,
+            relaxation_hold_s: 0.05,
+            load_balance: 0.005,
+            max_relaxation_time_s: 10.0,
+            check_interval_s: 1e-3,
+        }
+    }
+}
+
+/// `[output]`: what is written besides the deposit, contacts, sidecar, VTK and run record.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct OutputSection {
+    /// Write a VTK snapshot of the grains every this many steps (none by default).
+    pub snapshot_every_steps: Option<u64>,
+    /// The frame the analysis reads (sidecar `frame_mm`): "region-e" (the photographed heights
+    /// 290-410 mm), "whole" (the whole deposit), or "auto" (region E when the deposit reaches
+    /// above it, else the whole deposit).
+    pub frame: FrameChoice,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FrameChoice {
+    #[default]
+    Auto,
+    Whole,
+    RegionE,
+}
