@@ -52,13 +52,14 @@ pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
 }
 
 /// Lets the grid fall and settle until the kinetic energy is below `1e-4` of the elastic
-/// energy (SPEC §2's relaxation criterion), checked every 1000 steps. `progress` gets the
-/// simulated time.
+/// energy (SPEC §2's relaxation criterion), checked every 1000 steps, or until `max_time`
+/// (s): a throughput benchmark needs a dense deposit near rest, and some deposits keep a
+/// small rattle. `progress` gets the simulated time. Returns kinetic / elastic at the end.
 pub fn settle(
     world: &mut World,
     max_time: f64,
     mut progress: impl FnMut(f64),
-) -> anyhow::Result<()> {
+) -> anyhow::Result<f64> {
     // Nothing can be at rest before the top row has had time to land.
     let top = world
         .grains()
@@ -66,22 +67,17 @@ pub fn settle(
         .iter()
         .map(|p| p.y)
         .fold(0.0, f64::max);
-    let fall_time = (2.0 * top / 10.0).sqrt();
+    let fall_time = world.time() + (2.0 * top / 10.0).sqrt();
+    let end = world.time() + max_time;
     loop {
         world
             .run(1000)
             .context("while settling the benchmark deposit")?;
         progress(world.time());
         let e = world.energies();
-        if world.time() > fall_time && e.kinetic < 1e-4 * e.elastic {
-            return Ok(());
-        }
-        if world.time() > max_time {
-            anyhow::bail!(
-                "the deposit did not settle in {max_time} s (kinetic {:e} J, elastic {:e} J)",
-                e.kinetic,
-                e.elastic
-            );
+        let ratio = e.kinetic / e.elastic;
+        if (world.time() > fall_time && ratio < 1e-4) || world.time() > end {
+            return Ok(ratio);
         }
     }
 }
