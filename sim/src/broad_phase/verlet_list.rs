@@ -30,19 +30,14 @@ impl VerletList {
 
     /// True when some vertex may have moved more than half the skin since the last rebuild
     /// (or a grain has a non-finite position), so a pair could have come within reach unseen.
-    /// A vertex at distance `arm[i]` from the centre moves at most |dx| + arm |dtheta|.
     pub fn is_stale(&self, positions: &[Vec2], angles: &[f64], arm: &[f64], skin: f64) -> bool {
         if self.reference.len() != positions.len() {
             return true;
         }
-        let limit = skin / 2.0;
         (positions, angles, arm)
             .into_par_iter()
             .zip((&self.reference, &self.reference_angles))
-            .any(|((p, a, arm), (p0, a0))| {
-                let moved = (p - p0).norm() + arm * (a - a0).abs();
-                moved > limit || moved.is_nan()
-            })
+            .any(|((p, a, arm), (p0, a0))| moved_past_half_skin(*p - p0, a - a0, *arm, skin))
     }
 
     /// Rebuilds from scratch. `reach[i]` is grain i's bounding radius; `mobile[i]` is false for
@@ -100,6 +95,15 @@ impl VerletList {
         self.reference_angles = angles.to_vec();
         self.rebuilds += 1;
     }
+}
+
+/// Whether a grain displaced by `shift` and turned by `turn` may have a vertex (at most `arm`
+/// from its centre) more than half the skin from where it was: a vertex moves at most
+/// |shift| + arm |turn|. A non-finite displacement counts as moved.
+#[inline]
+pub fn moved_past_half_skin(shift: Vec2, turn: f64, arm: f64, skin: f64) -> bool {
+    let moved = shift.norm() + arm * turn.abs();
+    moved > skin / 2.0 || moved.is_nan()
 }
 
 #[cfg(test)]

@@ -92,11 +92,6 @@ impl PairContact {
         self.torque_second = 0.0;
     }
 
-    /// Features touching at the last evaluation (hints for deep vertices).
-    pub fn features(&self) -> SmallVec<[Features; 4]> {
-        self.subs.iter().map(|s| s.features).collect()
-    }
-
     /// Applies the contact law to the sub-contacts found this step, carrying each one's
     /// tangential history over from the last step when the same features touched.
     pub(crate) fn resolve(

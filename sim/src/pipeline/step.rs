@@ -3,6 +3,7 @@ use smallvec::SmallVec;
 
 use super::contacts::{Incidence, Kinematics, PairContact, carry_over, dropped_switching};
 use super::world::World;
+use crate::broad_phase::moved_past_half_skin;
 use crate::error::SimError;
 use crate::math::{Vec2, rotate};
 use crate::query::{
@@ -118,9 +119,12 @@ impl World {
                 if !fresh {
                     return true;
                 }
-                let moved =
-                    (*x - reference[i]).norm() + arm[i] * (*theta - reference_angles[i]).abs();
-                moved > skin / 2.0 || moved.is_nan()
+                moved_past_half_skin(
+                    *x - reference[i],
+                    *theta - reference_angles[i],
+                    arm[i],
+                    skin,
+                )
             })
             .reduce(|| false, |a, b| a || b)
     }
