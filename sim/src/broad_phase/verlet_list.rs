@@ -1,11 +1,12 @@
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use super::CellList;
 use crate::dynamics::Wall;
 use crate::math::Vec2;
 
 /// Pairs within reach plus a skin, valid until a grain moves more than half the skin.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub struct VerletList {
     /// Positions and angles at the last rebuild.
     reference: Vec<Vec2>,

@@ -197,7 +197,7 @@ pub(crate) fn dropped_switching<K: Ord + Copy>(
 
 /// For each grain, the contacts it takes part in, in a fixed order, so forces are summed the
 /// same way whatever the thread count.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
 pub(crate) struct Incidence {
     start: Vec<u32>,
     /// (contact index, true when the grain is the first body).

@@ -328,7 +328,7 @@ impl World {
 }
 
 /// What a contact does to its two bodies this step.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Push {
     force: Vec2,
     torque_first: f64,

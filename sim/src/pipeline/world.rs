@@ -66,7 +66,10 @@ pub(crate) struct ShapeEntry {
 }
 
 /// Grains, walls and the contacts between them, advanced in time by [`World::step`].
-#[derive(Clone, Debug)]
+///
+/// Serialises whole (neighbour lists, contact histories, force buffers included), so a world
+/// read back continues bit for bit as the one written would have.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct World {
     pub(crate) settings: WorldSettings,
     pub(crate) shapes: Vec<ShapeEntry>,
