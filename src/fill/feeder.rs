@@ -7,6 +7,7 @@ use std::collections::HashMap;
 
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
 use sim::Vec2;
 
 use super::outline::Placed;
@@ -37,6 +38,16 @@ pub struct Feeder {
     rng: ChaCha8Rng,
 }
 
+/// Where a feeder stands: grains in and the position in its random stream. A feeder of the same
+/// rain restored to it continues with the same grains.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct FeederState {
+    pub inserted: usize,
+    seed: [u8; 32],
+    stream: u64,
+    word_pos: u128,
+}
+
 impl std::ops::Deref for Feeder {
     type Target = Rain;
 
@@ -52,6 +63,22 @@ impl Feeder {
             inserted: 0,
             rng: ChaCha8Rng::seed_from_u64(seed),
         }
+    }
+
+    pub fn state(&self) -> FeederState {
+        FeederState {
+            inserted: self.inserted,
+            seed: self.rng.get_seed(),
+            stream: self.rng.get_stream(),
+            word_pos: self.rng.get_word_pos(),
+        }
+    }
+
+    pub fn restore(&mut self, state: &FeederState) {
+        self.inserted = state.inserted;
+        self.rng = ChaCha8Rng::from_seed(state.seed);
+        self.rng.set_stream(state.stream);
+        self.rng.set_word_pos(state.word_pos);
     }
 
     /// f = v phi0 W / A (grains per second).
@@ -247,6 +274,21 @@ mod tests {
             };
             assert!(first.iter().all(|q| !q.overlaps(&p)));
         }
+    }
+
+    #[test]
+    fn a_restored_feeder_continues_the_same_rain() {
+        let mut a = squares(0.1);
+        a.band(0.0, 0.1, &[]);
+        // Another seed, restored to where `a` stands, must give `a`'s next band.
+        let mut b = Feeder::new(a.rain, 99);
+        let fresh = b.clone().band(a.period(), 0.3, &[]);
+        b.restore(&a.state());
+        let next = a.band(a.period(), 0.3, &[]);
+        assert!(!next.is_empty());
+        assert_eq!(b.band(a.period(), 0.3, &[]), next);
+        assert_ne!(fresh, next);
+        assert_eq!(a.state(), b.state());
     }
 
     #[test]

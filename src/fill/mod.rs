@@ -3,8 +3,10 @@
 //! the analysis reads, a VTK file and the run record.
 //!
 //! Files of a run folder: `deposit.csv`, `deposit.contacts.csv`, `deposit.meta.json` (read by
-//! `facets analyse`), `grains.vtk` (ParaView), `run.json`, and `snapshots/step-N.vtk` on request.
+//! `facets analyse`), `grains.vtk` (ParaView), `run.json`, and `snapshots/step-N.vtk` on request;
+//! `checkpoint.bin` when the run is stopped (Ctrl-C) or asked for periodic checkpoints.
 
+mod checkpoint;
 mod feeder;
 mod outline;
 mod output;
@@ -12,11 +14,15 @@ mod record;
 mod run;
 mod silo;
 mod vtk;
+mod walls;
 
-pub use feeder::{Feeder, Rain};
+pub use checkpoint::{CHECKPOINT_FILE, Checkpoint, scene_hash};
+pub use feeder::{Feeder, FeederState, Rain};
 pub use outline::Placed;
 pub use output::{check_writable, deposit_of, frame_of};
 pub use record::{EnergiesRecord, RunRecord};
-pub use run::{FillProgress, fill};
+pub use run::{
+    FillControl, FillOutcome, FillProgress, STEPS_BETWEEN_STOP_CHECKS, StopAt, fill, fill_with,
+};
 pub use silo::{FLOOR, LEFT_WALL, RIGHT_WALL, Silo};
 pub use vtk::write_vtk;

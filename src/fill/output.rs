@@ -2,7 +2,7 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::Context;
-use sim::{Body, World};
+use sim::Body;
 
 use super::record::RunRecord;
 use super::silo::{FLOOR, LEFT_WALL, RIGHT_WALL, Silo};
@@ -28,10 +28,12 @@ pub fn check_writable(dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// The grains of a world as a deposit table (x from the left wall, y from the floor, theta
-/// folded by the outline's symmetry).
-pub fn deposit_of(world: &World, length: f64, width: f64) -> Deposit {
-    let grains = (0..world.len())
+/// The poured grains of a silo as a deposit table (x from the left wall, y from the floor,
+/// theta folded by the outline's symmetry); fixed wall grains are not part of it.
+pub fn deposit_of(silo: &Silo, length: f64, width: f64) -> Deposit {
+    let world = &silo.world;
+    let grains = silo
+        .deposit_grains()
         .map(|i| {
             let g = world.grain(i);
             Grain {
@@ -49,21 +51,25 @@ pub fn deposit_of(world: &World, length: f64, width: f64) -> Deposit {
     Deposit { grains }
 }
 
-/// One row per sub-contact, the force on the first grain; each touching pair appears once.
-fn contacts_of(world: &World) -> Vec<Contact> {
-    world
+/// One row per sub-contact, the force on the first grain; each touching pair appears once. A
+/// contact with a fixed wall grain is one with its wall, the force on the deposit grain.
+fn contacts_of(silo: &Silo) -> Vec<Contact> {
+    silo.world
         .contacts()
-        .map(|c| Contact {
-            i: c.first,
-            partner: match c.second {
-                Body::Grain(j) => Partner::Grain(j),
-                Body::Wall(LEFT_WALL) => Partner::Wall(Wall::Left),
-                Body::Wall(RIGHT_WALL) => Partner::Wall(Wall::Right),
-                Body::Wall(FLOOR) => Partner::Wall(Wall::Floor),
-                Body::Wall(k) => unreachable!("the silo has three walls, not {k}"),
-            },
-            force: [c.force.x, c.force.y],
-            point: [c.point.x, c.point.y],
+        .map(|c| {
+            let (i, other, force) = silo.deposit_side(&c);
+            Contact {
+                i,
+                partner: match other {
+                    Body::Grain(j) => Partner::Grain(j),
+                    Body::Wall(LEFT_WALL) => Partner::Wall(Wall::Left),
+                    Body::Wall(RIGHT_WALL) => Partner::Wall(Wall::Right),
+                    Body::Wall(FLOOR) => Partner::Wall(Wall::Floor),
+                    Body::Wall(k) => unreachable!("the silo has three walls, not {k}"),
+                },
+                force: [force.x, force.y],
+                point: [c.point.x, c.point.y],
+            }
         })
         .collect()
 }
@@ -93,8 +99,9 @@ pub fn frame_of(choice: FrameChoice, silo_width: f64, top: f64) -> FrameMm {
 pub(crate) fn write_outputs(out: &Path, silo: &Silo, record: &mut RunRecord) -> anyhow::Result<()> {
     let world = &silo.world;
     let scene = &record.scene;
-    let deposit = deposit_of(world, scene.grains.length(), scene.grains.width());
-    let top = (0..world.len())
+    let deposit = deposit_of(silo, scene.grains.length(), scene.grains.width());
+    let top = silo
+        .deposit_grains()
         .map(|i| world.grain(i).position.y + silo.reach)
         .fold(0.0, f64::max);
     let frame = frame_of(scene.output.frame, silo.width, top);
@@ -114,7 +121,7 @@ pub(crate) fn write_outputs(out: &Path, silo: &Silo, record: &mut RunRecord) -> 
 
     let table = out.join("deposit.csv");
     write_deposit_csv(&table, &deposit)?;
-    write_contacts_csv(&crate::deposit::contacts_path(&table), &contacts_of(world))?;
+    write_contacts_csv(&crate::deposit::contacts_path(&table), &contacts_of(silo))?;
     let meta = DepositMeta {
         silo_width_mm: silo.width * 1e3,
         phi0: scene.feed.phi0,

@@ -11,7 +11,11 @@ pub struct RunRecord {
     pub seed: u64,
     /// How the insertion band was placed ("surface": following the free surface at a gap).
     pub insertion: Insertion,
+    /// Poured grains (the deposit).
     pub grains: usize,
+    /// Fixed grains the floor and side walls are built of (0 for flat walls).
+    #[serde(default)]
+    pub wall_grains: usize,
     pub time_step_s: f64,
     pub steps: u64,
     pub simulated_time_s: f64,

@@ -1,10 +1,13 @@
 use std::collections::VecDeque;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use anyhow::Context;
+use serde::{Deserialize, Serialize};
 use sim::{Body, GrainState, Vec2, World};
 
+use super::checkpoint::{CHECKPOINT_FILE, Checkpoint, write_checkpoint};
 use super::outline::Placed;
 use super::output::write_outputs;
 use super::record::{EnergiesRecord, RunRecord};
@@ -33,6 +36,85 @@ const SETTLED_SPEED_FRACTION: f64 = 0.25;
 /// Relaxation allowance for the progress estimate (s); relaxation takes tenths of a second.
 const RELAXATION_GUESS: f64 = 0.3;
 
+/// When a fill stops before its end, leaving a checkpoint in its folder.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub enum StopAt {
+    #[default]
+    Never,
+    /// Once this many steps are done in all (counted from the start of the run).
+    Steps(u64),
+    /// At the first step boundary at or after this simulated time (s).
+    Time(f64),
+}
+
+/// How a fill starts and when it stops early.
+#[derive(Debug, Default)]
+pub struct FillControl<'a> {
+    /// Continue this checkpoint; it must be of the same scene and seed.
+    pub resume: Option<Checkpoint>,
+    pub stop: StopAt,
+    /// When this becomes true (a Ctrl-C handler sets it), the run stops at the next step
+    /// boundary it checks (at most [`STEPS_BETWEEN_STOP_CHECKS`] steps later) and writes a
+    /// checkpoint.
+    pub interrupt: Option<&'a AtomicBool>,
+}
+
+/// How a fill ended.
+#[derive(Debug)]
+pub enum FillOutcome {
+    /// Filled and relaxed (or out of relaxation time); the run's files are written.
+    Finished(Box<RunRecord>),
+    /// Stopped early; `checkpoint` continues it.
+    Stopped {
+        checkpoint: PathBuf,
+        time: f64,
+        steps: u64,
+    },
+}
+
+/// Steps run without looking at [`FillControl::interrupt`].
+pub const STEPS_BETWEEN_STOP_CHECKS: u64 = 1000;
+
+/// The fill loop's own state, beside the world and the feeder: what a checkpoint needs to
+/// continue the loop exactly where it stood.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub(crate) struct FillState {
+    /// (time, grains in) after each full band, for the measured feed rate.
+    events: Vec<(f64, usize)>,
+    /// Simulated time of the next insertion band (s).
+    next_band: f64,
+    last_insertion: f64,
+    stalled_bands: usize,
+    energy_ratio: f64,
+    imbalance: f64,
+    /// (time, kinetic, elastic) at the checks of the last `relaxation_hold_s`.
+    window: VecDeque<(f64, f64, f64)>,
+    /// Step at which the stretch of steps under way ends and the loop next decides what to do;
+    /// a run stopped inside a stretch finishes it before deciding anything.
+    stretch_end: u64,
+    /// Simulated time of the next periodic checkpoint (s).
+    next_checkpoint: f64,
+    /// Wall time spent by the sessions before this one (s).
+    wall_time_before: f64,
+}
+
+impl FillState {
+    fn new(scene: &Scene) -> Self {
+        Self {
+            events: Vec::new(),
+            next_band: 0.0,
+            last_insertion: 0.0,
+            stalled_bands: 0,
+            energy_ratio: f64::NAN,
+            imbalance: f64::NAN,
+            window: VecDeque::new(),
+            stretch_end: 0,
+            next_checkpoint: scene.output.checkpoint_every_s.unwrap_or(f64::INFINITY),
+            wall_time_before: 0.0,
+        }
+    }
+}
+
 /// Fills the silo of `scene` with the grains of seed `seed`, relaxes the deposit and writes the
 /// run's files into `out` (created if missing; checked writable before simulating). The run is
 /// deterministic given scene and seed.
@@ -42,9 +124,33 @@ pub fn fill(
     out: &Path,
     progress: &mut dyn FnMut(FillProgress),
 ) -> anyhow::Result<RunRecord> {
+    match fill_with(scene, seed, out, FillControl::default(), progress)? {
+        FillOutcome::Finished(record) => Ok(*record),
+        FillOutcome::Stopped { .. } => unreachable!("a fill without a stop runs to its end"),
+    }
+}
+
+/// [`fill`], started from a checkpoint or stopped early as `control` says. A run stopped and
+/// resumed, however many times, writes the same files as one run through (run.json's wall time
+/// aside); with `[output] checkpoint_every_s` the run also leaves checkpoints on its way.
+pub fn fill_with(
+    scene: &Scene,
+    seed: u64,
+    out: &Path,
+    control: FillControl,
+    progress: &mut dyn FnMut(FillProgress),
+) -> anyhow::Result<FillOutcome> {
     let start = Instant::now();
     super::output::check_writable(out)?;
     let mut silo = Silo::new(scene, seed)?;
+    let mut st = match control.resume {
+        Some(checkpoint) => {
+            checkpoint.check_matches(scene, seed)?;
+            checkpoint.restore(&mut silo)
+        }
+        None => FillState::new(scene),
+    };
+    let checkpoint_path = out.join(CHECKPOINT_FILE);
     let dt = silo.world.time_step();
     let period = silo.feeder.period();
     let check_steps = ((scene.run.check_interval_s / dt).round() as u64).max(1);
@@ -55,104 +161,131 @@ pub fn fill(
             .with_context(|| format!("cannot create {}", dir.display()))?;
     }
     let fill_time = silo.feeder.total as f64 / silo.feeder.rate();
-    let mut events: Vec<(f64, usize)> = Vec::new();
-    let mut next_band = 0.0;
-    let mut last_insertion = 0.0;
-    let mut stalled_bands = 0usize;
-    let (mut energy_ratio, mut imbalance) = (f64::NAN, f64::NAN);
-    // (time, kinetic, elastic) at the checks of the last `relaxation_hold_s`.
-    let mut window: VecDeque<(f64, f64, f64)> = VecDeque::new();
     let relaxed = loop {
-        let world = &silo.world;
-        if !silo.feeder.done() && world.time() >= next_band - 0.5 * dt {
-            let placed = insert_band(&mut silo)?;
-            next_band += period;
-            if placed > 0 {
-                last_insertion = silo.world.time();
-                stalled_bands = 0;
-                // The last band is cut short by the grain count: it says nothing of the rate.
-                let t = silo.world.time();
-                if silo.feeder.rate() * (t + period) <= silo.feeder.total as f64 {
-                    events.push((t, silo.feeder.inserted));
+        if silo.world.steps() == st.stretch_end {
+            if !silo.feeder.done() && silo.world.time() >= st.next_band - 0.5 * dt {
+                let placed = insert_band(&mut silo)?;
+                st.next_band += period;
+                if placed > 0 {
+                    st.last_insertion = silo.world.time();
+                    st.stalled_bands = 0;
+                    // The last band is cut short by the grain count: it says nothing of the rate.
+                    let t = silo.world.time();
+                    if silo.feeder.rate() * (t + period) <= silo.feeder.total as f64 {
+                        st.events.push((t, silo.feeder.inserted));
+                    }
+                } else if silo.feeder.due(silo.world.time()) > silo.feeder.inserted {
+                    st.stalled_bands += 1;
+                    anyhow::ensure!(
+                        st.stalled_bands < 1000,
+                        "the feeder found no room for a grain in 1000 bands in a row (t = {:.3} s, {} grains in): the insertion band is blocked",
+                        silo.world.time(),
+                        silo.feeder.inserted
+                    );
                 }
-            } else if silo.feeder.due(silo.world.time()) > silo.feeder.inserted {
-                stalled_bands += 1;
-                anyhow::ensure!(
-                    stalled_bands < 1000,
-                    "the feeder found no room for a grain in 1000 bands in a row (t = {:.3} s, {} grains in): the insertion band is blocked",
-                    silo.world.time(),
-                    silo.feeder.inserted
-                );
             }
+            let world = &silo.world;
+            // Steps to the next thing to do: a band, a relaxation check, a snapshot.
+            let mut steps = check_steps - world.steps() % check_steps;
+            if !silo.feeder.done() {
+                let to_band = ((st.next_band - world.time()) / dt).ceil().max(1.0) as u64;
+                steps = steps.min(to_band);
+            }
+            if let Some(k) = snapshot_every {
+                steps = steps.min(k - world.steps() % k);
+            }
+            st.stretch_end = world.steps() + steps;
         }
         let world = &silo.world;
-        // Steps to the next thing to do: a band, a relaxation check, a snapshot.
-        let mut steps = check_steps - world.steps() % check_steps;
-        if !silo.feeder.done() {
-            let to_band = ((next_band - world.time()) / dt).ceil().max(1.0) as u64;
-            steps = steps.min(to_band);
-        }
-        if let Some(k) = snapshot_every {
-            steps = steps.min(k - world.steps() % k);
+        let mut target = st
+            .stretch_end
+            .min(world.steps() + STEPS_BETWEEN_STOP_CHECKS);
+        if let Some(stop) = stop_step(control.stop, world) {
+            target = target.min(stop);
         }
         silo.world
-            .run(steps)
+            .run(target - silo.world.steps())
             .with_context(|| format!("seed {seed}: the simulation failed"))?;
         let world = &silo.world;
-        if let Some(k) = snapshot_every {
-            if world.steps() % k == 0 {
-                let path = out.join(format!("snapshots/step-{:09}.vtk", world.steps()));
-                write_vtk(&path, world)?;
+        if world.steps() == st.stretch_end {
+            if let Some(k) = snapshot_every {
+                if world.steps() % k == 0 {
+                    let path = out.join(format!("snapshots/step-{:09}.vtk", world.steps()));
+                    write_vtk(&path, world)?;
+                }
+            }
+            if world.steps() % check_steps == 0 {
+                progress(FillProgress {
+                    time: world.time(),
+                    inserted: silo.feeder.inserted,
+                    total: silo.feeder.total,
+                    expected_end: fill_time.max(st.last_insertion) + RELAXATION_GUESS,
+                    relaxing: silo.feeder.done(),
+                    energy_ratio: st.energy_ratio,
+                    load_imbalance: st.imbalance,
+                });
+                if silo.feeder.done() {
+                    let e = world.energies();
+                    let window = &mut st.window;
+                    window.push_back((world.time(), e.kinetic, e.elastic));
+                    // Keep the newest stretch that spans the hold time, and no more.
+                    while window.len() > 1
+                        && world.time() - window[1].0 >= scene.run.relaxation_hold_s
+                    {
+                        window.pop_front();
+                    }
+                    let n = window.len() as f64;
+                    let kinetic = window.iter().map(|w| w.1).sum::<f64>() / n;
+                    let elastic = window.iter().map(|w| w.2).sum::<f64>() / n;
+                    st.energy_ratio = kinetic / elastic;
+                    let full = world.time() - window[0].0 >= scene.run.relaxation_hold_s;
+                    st.imbalance = load_imbalance(&silo);
+                    if full
+                        && kinetic < scene.run.relaxation_ratio * elastic
+                        && st.imbalance < scene.run.load_balance
+                    {
+                        break true;
+                    }
+                    if world.time() - st.last_insertion > scene.run.max_relaxation_time_s {
+                        break false;
+                    }
+                }
+            }
+            if world.time() >= st.next_checkpoint {
+                let every = scene.output.checkpoint_every_s.unwrap_or(f64::INFINITY);
+                while st.next_checkpoint <= world.time() {
+                    st.next_checkpoint += every;
+                }
+                save(&checkpoint_path, scene, seed, &silo, &mut st, start)?;
             }
         }
-        if world.steps() % check_steps == 0 {
-            progress(FillProgress {
+        let world = &silo.world;
+        let interrupted = control
+            .interrupt
+            .is_some_and(|flag| flag.load(Ordering::Relaxed));
+        if interrupted || stop_step(control.stop, world) == Some(world.steps()) {
+            save(&checkpoint_path, scene, seed, &silo, &mut st, start)?;
+            return Ok(FillOutcome::Stopped {
+                checkpoint: checkpoint_path,
                 time: world.time(),
-                inserted: silo.feeder.inserted,
-                total: silo.feeder.total,
-                expected_end: fill_time.max(last_insertion) + RELAXATION_GUESS,
-                relaxing: silo.feeder.done(),
-                energy_ratio,
-                load_imbalance: imbalance,
+                steps: world.steps(),
             });
-            if silo.feeder.done() {
-                let e = world.energies();
-                window.push_back((world.time(), e.kinetic, e.elastic));
-                // Keep the newest stretch that spans the hold time, and no more.
-                while window.len() > 1 && world.time() - window[1].0 >= scene.run.relaxation_hold_s
-                {
-                    window.pop_front();
-                }
-                let n = window.len() as f64;
-                let kinetic = window.iter().map(|w| w.1).sum::<f64>() / n;
-                let elastic = window.iter().map(|w| w.2).sum::<f64>() / n;
-                energy_ratio = kinetic / elastic;
-                let full = world.time() - window[0].0 >= scene.run.relaxation_hold_s;
-                imbalance = load_imbalance(world);
-                if full
-                    && kinetic < scene.run.relaxation_ratio * elastic
-                    && imbalance < scene.run.load_balance
-                {
-                    break true;
-                }
-                if world.time() - last_insertion > scene.run.max_relaxation_time_s {
-                    break false;
-                }
-            }
         }
     };
     let world = &silo.world;
     let e = world.energies();
+    let loads = silo.wall_loads();
     let mut record = RunRecord {
         facets_version: env!("CARGO_PKG_VERSION").to_string(),
         scene: scene.clone(),
         seed,
         insertion: scene.feed.insertion,
-        grains: world.len(),
+        grains: silo.deposit_grains().len(),
+        wall_grains: silo.wall_of.len(),
         time_step_s: dt,
         steps: world.steps(),
         simulated_time_s: world.time(),
-        fill_time_s: last_insertion,
+        fill_time_s: st.last_insertion,
         relaxed,
         wall_time_s: 0.0,
         energies: EnergiesRecord {
@@ -162,24 +295,51 @@ pub fn fill(
             switching_j: e.switching,
         },
         feed_rate_target_per_s: silo.feeder.rate(),
-        feed_rate_measured_per_s: slope(&events),
+        feed_rate_measured_per_s: slope(&st.events),
         band_height_mm: silo.feeder.band_height * 1e3,
-        insertion_events: events.len(),
+        insertion_events: st.events.len(),
         packing_fraction: f64::NAN,
         frame_mm: None,
         deposit_height_mm: 0.0,
         overflow: false,
-        weight_n: (0..world.len())
-            .map(|i| world.grains().mass[i] * scene.contact.gravity_m_s2)
-            .sum(),
-        floor_load_n: load(world, FLOOR),
-        left_wall_load_n: load(world, LEFT_WALL),
-        right_wall_load_n: load(world, RIGHT_WALL),
+        weight_n: silo.deposit_mass() * scene.contact.gravity_m_s2,
+        floor_load_n: [loads[FLOOR].x, loads[FLOOR].y],
+        left_wall_load_n: [loads[LEFT_WALL].x, loads[LEFT_WALL].y],
+        right_wall_load_n: [loads[RIGHT_WALL].x, loads[RIGHT_WALL].y],
         deepest_overlap_mm: world.contacts().map(|c| c.overlap).fold(0.0, f64::max) * 1e3,
     };
-    record.wall_time_s = start.elapsed().as_secs_f64();
+    record.wall_time_s = st.wall_time_before + start.elapsed().as_secs_f64();
     write_outputs(out, &silo, &mut record)?;
-    Ok(record)
+    Ok(FillOutcome::Finished(Box::new(record)))
+}
+
+/// The step at which `stop` asks the run to stop (never before the current one).
+fn stop_step(stop: StopAt, world: &World) -> Option<u64> {
+    match stop {
+        StopAt::Never => None,
+        StopAt::Steps(n) => Some(n.max(world.steps())),
+        StopAt::Time(t) => {
+            let dt = world.time_step();
+            let left = ((t - world.time()) / dt - 0.5).ceil().max(0.0);
+            Some(world.steps() + left as u64)
+        }
+    }
+}
+
+/// Writes a checkpoint with the wall time spent so far.
+fn save(
+    path: &Path,
+    scene: &Scene,
+    seed: u64,
+    silo: &Silo,
+    st: &mut FillState,
+    start: Instant,
+) -> anyhow::Result<()> {
+    let before = st.wall_time_before;
+    st.wall_time_before += start.elapsed().as_secs_f64();
+    let written = write_checkpoint(path, scene, seed, silo, st);
+    st.wall_time_before = before;
+    written
 }
 
 /// Inserts the grains due, in the band above the free surface (or at its fixed height).
@@ -187,7 +347,7 @@ fn insert_band(silo: &mut Silo) -> anyhow::Result<usize> {
     let world = &silo.world;
     let bottom = match silo.insertion {
         Insertion::Fixed => silo.fixed_bottom,
-        Insertion::Surface => free_surface(world, silo.feeder.speed, silo.reach) + silo.gap,
+        Insertion::Surface => free_surface(silo) + silo.gap,
     };
     let half = silo.feeder.half;
     let existing: Vec<Placed> = (0..world.len())
@@ -219,34 +379,34 @@ fn insert_band(silo: &mut Silo) -> anyhow::Result<usize> {
 
 /// Top of the highest grain that has landed (touches something and moves slower than a
 /// quarter of the inflow speed); the floor when none has. A grain at the top of a bounce is
-/// slow but touches nothing, so it does not lift the surface.
-pub(crate) fn free_surface(world: &World, speed: f64, reach: f64) -> f64 {
-    let mut touching = vec![false; world.len()];
+/// slow but touches nothing, so it does not lift the surface. Fixed wall grains are not part
+/// of the deposit: a grain brushing a side wall does not lift it.
+pub(crate) fn free_surface(silo: &Silo) -> f64 {
+    let world = &silo.world;
+    let first = silo.deposit_grains().start;
+    let mut touching = vec![false; world.len() - first];
     for c in world.contacts() {
-        touching[c.first] = true;
-        if let Body::Grain(j) = c.second {
+        let (i, other, _) = silo.deposit_side(&c);
+        touching[i] = true;
+        if let Body::Grain(j) = other {
             touching[j] = true;
         }
     }
-    (0..world.len())
+    let speed = silo.feeder.speed;
+    (0..touching.len())
         .filter(|&i| touching[i])
-        .map(|i| world.grain(i))
+        .map(|i| world.grain(first + i))
         .filter(|g| g.velocity.norm() < SETTLED_SPEED_FRACTION * speed)
-        .map(|g| g.position.y + reach)
+        .map(|g| g.position.y + silo.reach)
         .fold(0.0, f64::max)
 }
 
-/// |grains' load on floor and walls - their weight| / weight: zero for a deposit at rest.
-fn load_imbalance(world: &World) -> f64 {
-    let gravity = world.settings().gravity;
-    let mass: f64 = world.grains().mass.iter().sum();
-    let load: Vec2 = (0..world.walls().len()).map(|k| world.wall_load(k)).sum();
+/// |deposit's load on floor and walls - its weight| / weight: zero for a deposit at rest.
+fn load_imbalance(silo: &Silo) -> f64 {
+    let gravity = silo.world.settings().gravity;
+    let mass = silo.deposit_mass();
+    let load: Vec2 = silo.wall_loads().iter().sum();
     (load - gravity * mass).norm() / (mass * gravity.norm())
-}
-
-fn load(world: &World, wall: usize) -> [f64; 2] {
-    let f = world.wall_load(wall);
-    [f.x, f.y]
 }
 
 /// Least-squares slope of the cumulative count against time (grains per second).

@@ -2,7 +2,8 @@ use anyhow::Context;
 use sim::{ShapeId, Spheropolygon, Vec2, Wall, World, WorldSettings};
 
 use super::feeder::{Feeder, Rain};
-use crate::scene::{Insertion, Scene};
+use super::walls::lay_grain_walls;
+use crate::scene::{Insertion, Scene, WallKind};
 
 /// Wall indices in the world, in the order they are added.
 pub const FLOOR: usize = 0;
@@ -23,6 +24,9 @@ pub struct Silo {
     pub gap: f64,
     /// Fixed insertion: height of the band's bottom (m).
     pub fixed_bottom: f64,
+    /// The wall (FLOOR, LEFT_WALL, RIGHT_WALL) of each fixed wall grain; these are the first
+    /// grains of the world. Empty for flat walls.
+    pub wall_of: Vec<usize>,
 }
 
 impl Silo {
@@ -37,9 +41,11 @@ impl Silo {
             ..WorldSettings::default()
         })
         .context("in the scene's [contact] or [run] section")?;
-        world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
-        world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
-        world.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))?;
+        if scene.silo.walls == WallKind::Flat {
+            world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
+            world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
+            world.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))?;
+        }
         let outline =
             Spheropolygon::rounded_rectangle(g.length(), g.width(), g.rounding() * g.width())
                 .context("in the scene's [grains] section")?;
@@ -47,6 +53,12 @@ impl Silo {
         let shape = world
             .add_shape(outline, g.areal_density())
             .context("in the scene's [grains] or [run] section")?;
+        let wall_of = match scene.silo.walls {
+            WallKind::Flat => Vec::new(),
+            WallKind::Grains => {
+                lay_grain_walls(&mut world, shape, [g.length(), g.width()], width, height)?
+            }
+        };
         let band_height = scene.feed.band_height_mm.map_or(8.0 * reach, |h| h * mm);
         let feeder = Feeder::new(
             Rain {
@@ -83,6 +95,7 @@ impl Silo {
             insertion: scene.feed.insertion,
             gap: scene.feed.gap_mm * mm,
             fixed_bottom,
+            wall_of,
         })
     }
 }

@@ -29,8 +29,8 @@ pub struct SiloSection {
     pub width_mm: f64,
     /// Height of the side walls (mm); a deposit reaching above it is reported as overflowing.
     pub height_mm: f64,
-    /// How the floor and side walls are built: only "flat" (half-planes with the grains'
-    /// contact law) for now.
+    /// How the floor and side walls are built: "flat" (half-planes with the grains' contact
+    /// law) or "grains" (fixed grains of the scene's shape laid edge to edge, as the paper).
     pub walls: WallKind,
 }
 
@@ -49,6 +49,9 @@ impl Default for SiloSection {
 pub enum WallKind {
     /// Floor and side walls are half-planes.
     Flat,
+    /// Floor and side walls are rows of fixed grains of the scene's shape, long side along the
+    /// wall, their inner faces on the silo's outline (x = 0, x = W, y = 0).
+    Grains,
 }
 
 /// Grain kinds as written in scenes (the names of the command line).
@@ -262,6 +265,10 @@ pub struct OutputSection {
     /// 290-410 mm), "whole" (the whole deposit), or "auto" (region E when the deposit reaches
     /// above it, else the whole deposit).
     pub frame: FrameChoice,
+    /// Write `checkpoint.bin` in the run's folder every this many seconds of simulated time
+    /// (none by default; Ctrl-C writes one anyway). `facets sim SCENE --resume FILE` continues
+    /// it with the same result as an uninterrupted run.
+    pub checkpoint_every_s: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]

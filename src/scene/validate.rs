@@ -177,5 +177,8 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
             "is 0, expected a positive number of steps (or leave it out)".into(),
         ));
     }
+    if let Some(every) = s.output.checkpoint_every_s {
+        positive("output", "checkpoint_every_s", every, "s of simulated time")?;
+    }
     Ok(())
 }
