@@ -1,12 +1,15 @@
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use clap::Args as ClapArgs;
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
-use facets::fill::{FillProgress, RunRecord, check_writable, fill};
-use facets::scene::load_scene;
+use facets::fill::{
+    Checkpoint, FillControl, FillOutcome, FillProgress, StopAt, check_writable, fill_with,
+};
+use facets::scene::{Scene, load_scene};
 
 /// Fill a silo as a scene file describes, relax the deposit and write it.
 ///
@@ -15,20 +18,42 @@ use facets::scene::load_scene;
 /// left wall, -2 right wall, -3 floor), deposit.meta.json (read by `facets analyse`),
 /// grains.vtk (ParaView) and run.json (scene, seed, steps, wall time, energies, packing
 /// fraction); snapshots/step-N.vtk when the scene asks for them.
+///
+/// Ctrl-C stops every run at its next step boundary, writes DIR/seed-N/checkpoint.bin, prints
+/// the command that resumes them and exits with status 130 (a second Ctrl-C exits at once).
+/// `--resume` continues checkpoints with the same result, bit for bit, as a run that was never
+/// stopped. `[output] checkpoint_every_s` in the scene also writes checkpoint.bin on the way.
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
     /// Scene file (TOML); see data-samples/scenes/ for the paper's cases.
     pub scene: PathBuf,
-    /// Seed of the first run (default: the scene's `run.seed`); run k uses seed + k.
+    /// Seed of the first run (default: the scene's `run.seed`); run k uses seed + k. With
+    /// --resume: the seed the checkpoint must belong to (default: the checkpoint's).
     #[arg(long)]
     pub seed: Option<u64>,
-    /// Output folder (default: runs/SCENE-NAME); each run goes to its seed-N/ subfolder.
+    /// Output folder (default: runs/SCENE-NAME); each run goes to its seed-N/ subfolder. With
+    /// --resume the default is the folder holding each checkpoint.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Number of realisations (seeds), run in parallel.
-    #[arg(long, default_value_t = 1)]
+    #[arg(long, default_value_t = 1, conflicts_with = "resume")]
     pub realisations: u64,
+    /// Continue checkpoint file(s) (seed-N/checkpoint.bin) written by Ctrl-C or by
+    /// `[output] checkpoint_every_s`; several run in parallel. Refused when a checkpoint
+    /// belongs to another scene, seed or version of facets.
+    #[arg(long, num_args = 1..)]
+    pub resume: Vec<PathBuf>,
+}
+
+/// Set by Ctrl-C: the runs stop at their next step boundary and write checkpoints.
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+/// One run to do: its seed, its folder and the checkpoint it continues.
+struct Job {
+    seed: u64,
+    dir: PathBuf,
+    resume: Option<Checkpoint>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -37,25 +62,42 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "--realisations 0: expected at least one run"
     );
     let scene = load_scene(&args.scene)?;
-    let first = args.seed.unwrap_or(scene.run.seed);
-    let out = args.out.clone().unwrap_or_else(|| {
-        let stem = args.scene.file_stem().unwrap_or_default();
-        PathBuf::from("runs").join(stem)
-    });
-    let seeds: Vec<u64> = (0..args.realisations).map(|k| first + k).collect();
+    let jobs = if args.resume.is_empty() {
+        let first = args.seed.unwrap_or(scene.run.seed);
+        let out = args.out.clone().unwrap_or_else(|| {
+            let stem = args.scene.file_stem().unwrap_or_default();
+            PathBuf::from("runs").join(stem)
+        });
+        (0..args.realisations)
+            .map(|k| Job {
+                seed: first + k,
+                dir: out.join(format!("seed-{}", first + k)),
+                resume: None,
+            })
+            .collect()
+    } else {
+        resumed_jobs(&args, &scene)?
+    };
     // Refuse an unwritable folder before any simulating.
-    for &seed in &seeds {
-        check_writable(&out.join(format!("seed-{seed}")))?;
+    for job in &jobs {
+        check_writable(&job.dir)?;
     }
+    ctrlc::set_handler(|| {
+        if INTERRUPT.swap(true, Ordering::SeqCst) {
+            std::process::exit(130);
+        }
+    })
+    .context("cannot install the Ctrl-C handler")?;
     let bars = MultiProgress::new();
     let style = ProgressStyle::with_template(
         "{prefix:>10} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
     )
     .unwrap_or_else(|_| ProgressStyle::default_bar())
     .progress_chars("=> ");
-    let records: Vec<anyhow::Result<RunRecord>> = seeds
-        .par_iter()
-        .map(|&seed| {
+    let outcomes: Vec<(u64, PathBuf, anyhow::Result<FillOutcome>)> = jobs
+        .into_par_iter()
+        .map(|job| {
+            let seed = job.seed;
             let bar = bars.add(ProgressBar::new(1).with_style(style.clone()));
             bar.set_prefix(format!("seed {seed}"));
             let mut update = |p: FillProgress| {
@@ -72,16 +114,35 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 };
                 bar.set_message(format!("{}/{} grains in, {phase}", p.inserted, p.total));
             };
-            let dir = out.join(format!("seed-{seed}"));
-            let record = fill(&scene, seed, &dir, &mut update)
+            let control = FillControl {
+                resume: job.resume,
+                stop: StopAt::Never,
+                interrupt: Some(&INTERRUPT),
+            };
+            let outcome = fill_with(&scene, seed, &job.dir, control, &mut update)
                 .with_context(|| format!("run seed {seed} ({})", args.scene.display()));
             bar.finish();
-            record
+            (seed, job.dir, outcome)
         })
         .collect();
     let mut unrelaxed = Vec::new();
-    for (seed, record) in seeds.iter().zip(records) {
-        let r = record?;
+    let mut stopped = Vec::new();
+    for (seed, dir, outcome) in outcomes {
+        let r = match outcome? {
+            FillOutcome::Finished(r) => r,
+            FillOutcome::Stopped {
+                checkpoint,
+                time,
+                steps,
+            } => {
+                eprintln!(
+                    "seed {seed}: stopped at {time:.4} s simulated ({steps} steps), checkpoint {}",
+                    checkpoint.display()
+                );
+                stopped.push(checkpoint);
+                continue;
+            }
+        };
         println!(
             "seed {seed}: {} grains, {:.3} s simulated in {} steps, {:.1} s wall, packing fraction {:.4}, {} -> {}",
             r.grains,
@@ -90,7 +151,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             r.wall_time_s,
             r.packing_fraction,
             if r.relaxed { "relaxed" } else { "NOT relaxed" },
-            out.join(format!("seed-{seed}")).display()
+            dir.display()
         );
         if r.overflow {
             eprintln!(
@@ -102,10 +163,53 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             unrelaxed.push(seed);
         }
     }
+    if !stopped.is_empty() {
+        let files: Vec<String> = stopped.iter().map(|p| p.display().to_string()).collect();
+        eprintln!(
+            "interrupted; resume with:\n  facets sim {} --resume {}",
+            args.scene.display(),
+            files.join(" ")
+        );
+        std::process::exit(130);
+    }
     anyhow::ensure!(
         unrelaxed.is_empty(),
         "seeds {unrelaxed:?} did not relax within run.max_relaxation_time_s = {} s (outputs written, run.json says relaxed: false)",
         scene.run.max_relaxation_time_s
     );
     Ok(())
+}
+
+/// The runs `--resume` continues, each checked against the scene (and `--seed`) before any
+/// simulating.
+fn resumed_jobs(args: &Args, scene: &Scene) -> anyhow::Result<Vec<Job>> {
+    let mut jobs: Vec<Job> = Vec::new();
+    for path in &args.resume {
+        let checkpoint = Checkpoint::read(path)?;
+        let seed = args.seed.unwrap_or(checkpoint.seed());
+        checkpoint.check_matches(scene, seed).with_context(|| {
+            format!(
+                "cannot resume {} with scene {} and seed {seed}",
+                path.display(),
+                args.scene.display()
+            )
+        })?;
+        anyhow::ensure!(
+            jobs.iter().all(|j| j.seed != seed),
+            "--resume: two checkpoints of seed {seed}"
+        );
+        let dir = match &args.out {
+            Some(out) => out.join(format!("seed-{seed}")),
+            None => path
+                .parent()
+                .filter(|p| !p.as_os_str().is_empty())
+                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
+        };
+        jobs.push(Job {
+            seed,
+            dir,
+            resume: Some(checkpoint),
+        });
+    }
+    Ok(jobs)
 }
