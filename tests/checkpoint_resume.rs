@@ -230,7 +230,7 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_to_the_same_files() {
     let text = SCENE
         .replace(
             "max_relaxation_time_s = 0.05",
-            "max_relaxation_time_s = 0.3",
+            "max_relaxation_time_s = 0.15",
         )
         .replace("snapshot_every_steps = 1000\n", "");
     let scene = dir.path().join("scene.toml");
