@@ -134,9 +134,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 checkpoint,
                 time,
                 steps,
+                grains,
             } => {
                 eprintln!(
-                    "seed {seed}: stopped at {time:.4} s simulated ({steps} steps), checkpoint {}",
+                    "seed {seed}: stopped at {time:.4} s simulated ({steps} steps, {grains} grains in), checkpoint {}",
                     checkpoint.display()
                 );
                 stopped.push(checkpoint);

@@ -69,6 +69,8 @@ pub enum FillOutcome {
         checkpoint: PathBuf,
         time: f64,
         steps: u64,
+        /// Grains poured so far.
+        grains: usize,
     },
 }
 
@@ -269,6 +271,7 @@ pub fn fill_with(
                 checkpoint: checkpoint_path,
                 time: world.time(),
                 steps: world.steps(),
+                grains: silo.feeder.inserted,
             });
         }
     };
