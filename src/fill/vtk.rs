@@ -1,5 +1,5 @@
 //! Legacy VTK (ASCII POLYDATA) of the grains: each grain's rounded outline as one polygon, with
-//! cell data velocity, orientation and contact force, for ParaView.
+//! cell data velocity, orientation, contact force and whether the grain is fixed, for ParaView.
 
 use std::io::Write;
 use std::path::Path;
@@ -62,6 +62,12 @@ pub fn write_vtk(path: &Path, world: &World) -> anyhow::Result<()> {
         writeln!(w, "LOOKUP_TABLE default")?;
         for f in &force {
             writeln!(w, "{f:e}")?;
+        }
+        // 1 for the fixed grains walls are built of, to hide them or colour them apart.
+        writeln!(w, "SCALARS fixed int 1")?;
+        writeln!(w, "LOOKUP_TABLE default")?;
+        for m in &world.grains().inverse_mass {
+            writeln!(w, "{}", u8::from(*m == 0.0))?;
         }
         Ok(())
     })
