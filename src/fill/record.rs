@@ -24,6 +24,7 @@ pub struct RunRecord {
     /// True when kinetic < relaxation_ratio x elastic was reached; false when the relaxation
     /// time ran out first.
     pub relaxed: bool,
+    /// Wall time of the run (s), summed over the sessions of a run stopped and resumed.
     pub wall_time_s: f64,
     pub energies: EnergiesRecord,
     /// v phi0 W / A (grains per second).
