@@ -116,6 +116,10 @@ pub fn fill(
                 load_imbalance: imbalance,
             });
             if silo.feeder.done() {
+                if scene.model.wake_to_relax && world.sleep_settings().is_some() {
+                    silo.world.set_sleep(None)?;
+                }
+                let world = &silo.world;
                 let e = world.energies();
                 window.push_back((world.time(), e.kinetic, e.elastic));
                 // Keep the newest stretch that spans the hold time, and no more.

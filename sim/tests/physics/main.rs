@@ -7,4 +7,5 @@ mod energy;
 mod impacts;
 mod inputs;
 mod resting;
+mod sleeping;
 mod slope;
