@@ -226,11 +226,12 @@ fn a_checkpoint_of_another_scene_or_seed_is_refused() {
 #[test]
 fn ctrl_c_writes_a_checkpoint_that_resumes_to_the_same_files() {
     let dir = tempfile::tempdir().unwrap();
-    // A longer relaxation, so that the run is still going when the signal comes.
+    // A longer relaxation, so that the run is still going when the signal comes; sleeping
+    // grains on, so that their state goes through the checkpoint too.
     let text = SCENE
         .replace(
             "max_relaxation_time_s = 0.05",
-            "max_relaxation_time_s = 0.15",
+            "max_relaxation_time_s = 0.15\n\n[model]\nsleep = true",
         )
         .replace("snapshot_every_steps = 1000\n", "");
     let scene = dir.path().join("scene.toml");

@@ -48,4 +48,6 @@ pub enum SimError {
     Diverged { grain: usize, time: f64 },
     #[error("unknown shape id {0}")]
     UnknownShape(usize),
+    #[error("cannot start a worker thread: {0}")]
+    ThreadPool(String),
 }

@@ -20,7 +20,7 @@ pub use dynamics::{ContactLaw, Wall};
 pub use error::{ShapeError, SimError};
 pub use math::Vec2;
 pub use pipeline::{
-    Body, ContactRecord, Energies, GrainId, GrainState, ShapeId, World, WorldSettings,
-    collision_time, critical_time_step,
+    Body, ContactRecord, Energies, GrainId, GrainState, ShapeId, SleepSettings, World,
+    WorldSettings, collision_time, critical_time_step,
 };
 pub use shape::Spheropolygon;

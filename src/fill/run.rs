@@ -227,6 +227,10 @@ pub fn fill_with(
                     load_imbalance: st.imbalance,
                 });
                 if silo.feeder.done() {
+                    if scene.model.wake_to_relax && world.sleep_settings().is_some() {
+                        silo.world.set_sleep(None)?;
+                    }
+                    let world = &silo.world;
                     let e = world.energies();
                     let window = &mut st.window;
                     window.push_back((world.time(), e.kinetic, e.elastic));
@@ -253,6 +257,7 @@ pub fn fill_with(
                     }
                 }
             }
+            let world = &silo.world;
             if world.time() >= st.next_checkpoint {
                 let every = scene.output.checkpoint_every_s.unwrap_or(f64::INFINITY);
                 while st.next_checkpoint <= world.time() {
@@ -305,7 +310,10 @@ pub fn fill_with(
         frame_mm: None,
         deposit_height_mm: 0.0,
         overflow: false,
-        weight_n: silo.deposit_mass() * scene.contact.gravity_m_s2,
+        weight_n: silo
+            .deposit_grains()
+            .map(|i| world.grains().mass[i] * scene.contact.gravity_m_s2)
+            .sum(),
         floor_load_n: [loads[FLOOR].x, loads[FLOOR].y],
         left_wall_load_n: [loads[LEFT_WALL].x, loads[LEFT_WALL].y],
         right_wall_load_n: [loads[RIGHT_WALL].x, loads[RIGHT_WALL].y],

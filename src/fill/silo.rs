@@ -50,9 +50,21 @@ impl Silo {
             Spheropolygon::rounded_rectangle(g.length(), g.width(), g.rounding() * g.width())
                 .context("in the scene's [grains] section")?;
         let (reach, area) = (outline.bounding_radius(), outline.area());
+        let (mass, _) = outline
+            .mass_properties(g.areal_density())
+            .context("in the scene's [grains] section")?;
         let shape = world
             .add_shape(outline, g.areal_density())
             .context("in the scene's [grains] or [run] section")?;
+        if scene.run.time_step_s.is_none() {
+            let t_c = sim::collision_time(&scene.contact.law(), mass / 2.0);
+            world
+                .set_time_step(t_c / scene.model.steps_per_collision)
+                .context("field `model.steps_per_collision`: the step it gives is unstable")?;
+        }
+        world
+            .set_sleep(scene.model.sleep_settings())
+            .context("in the scene's [model] section")?;
         let wall_of = match scene.silo.walls {
             WallKind::Flat => Vec::new(),
             WallKind::Grains => {

@@ -8,6 +8,6 @@ mod validate;
 
 pub use load::{load_scene, parse_scene};
 pub use types::{
-    ContactSection, FeedSection, FrameChoice, GrainSection, Insertion, OutputSection, RunSection,
-    Scene, SceneGrainKind, SiloSection, WallKind,
+    ContactSection, FeedSection, FrameChoice, GrainSection, Insertion, ModelSection, OutputSection,
+    RunSection, Scene, SceneGrainKind, SiloSection, WallKind,
 };

@@ -152,6 +152,27 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
     positive("contact", "gravity_m_s2", c.gravity_m_s2, "m/s^2")?;
 
     let r = &s.run;
+    let m = &s.model;
+    positive(
+        "model",
+        "steps_per_collision",
+        m.steps_per_collision,
+        "steps",
+    )?;
+    non_negative("model", "sleep_speed_m_s", m.sleep_speed_m_s, "m/s")?;
+    non_negative(
+        "model",
+        "sleep_force_fraction",
+        m.sleep_force_fraction,
+        "fraction",
+    )?;
+    non_negative("model", "sleep_quiet_time_s", m.sleep_quiet_time_s, "s")?;
+    non_negative(
+        "model",
+        "wake_force_fraction",
+        m.wake_force_fraction,
+        "fraction",
+    )?;
     if let Some(dt) = r.time_step_s {
         positive("run", "time_step_s", dt, "s")?;
     }

@@ -98,6 +98,89 @@ impl VerletList {
     }
 }
 
+impl VerletList {
+    /// Rebuilds around the awake grains only: pairs between two grains that do not move
+    /// (fixed or sleeping) are kept from `old_pairs` as they were, and only the awake grains
+    /// are searched. Equal to [`Self::rebuild`] as long as every grain that stopped moving did
+    /// so with the list fresh around it, which holds because a grain that wakes forces a
+    /// rebuild before it moves by more than a step.
+    #[allow(clippy::too_many_arguments)]
+    pub fn rebuild_around_awake(
+        &mut self,
+        old_pairs: &[[u32; 2]],
+        old_wall_pairs: &[[u32; 2]],
+        positions: &[Vec2],
+        angles: &[f64],
+        reach: &[f64],
+        awake: &[bool],
+        walls: &[Wall],
+        skin: f64,
+        near: impl Fn(usize, usize) -> bool + Sync,
+    ) {
+        let largest = reach.iter().copied().fold(0.0, f64::max);
+        let cells = CellList::new(positions, 2.0 * largest + skin);
+        let moving: Vec<u32> = (0..positions.len() as u32)
+            .filter(|&i| awake[i as usize])
+            .collect();
+        let mut found: Vec<[u32; 2]> = moving
+            .par_iter()
+            .flat_map_iter(|&i| {
+                let i = i as usize;
+                let (p, r) = (positions[i], reach[i]);
+                let cells = &cells;
+                let near = &near;
+                cells.around(p).filter_map(move |j| {
+                    let j = j as usize;
+                    // A pair of two awake grains is found once, from its first grain.
+                    let new = j != i && (!awake[j] || j > i);
+                    (new && (positions[j] - p).norm_squared() < (r + reach[j] + skin).powi(2)
+                        && near(i, j))
+                    .then(|| [i.min(j) as u32, i.max(j) as u32])
+                })
+            })
+            .collect();
+        found.par_sort_unstable();
+        let resting = |pair: &&[u32; 2]| !(awake[pair[0] as usize] || awake[pair[1] as usize]);
+        self.pairs = merge_sorted(old_pairs.iter().filter(resting).copied(), found);
+        let wall_found: Vec<[u32; 2]> = moving
+            .iter()
+            .flat_map(|&i| {
+                walls
+                    .iter()
+                    .enumerate()
+                    .filter(move |(_, w)| {
+                        w.distance(positions[i as usize]) < reach[i as usize] + skin
+                    })
+                    .map(move |(k, _)| [i, k as u32])
+            })
+            .collect();
+        self.wall_pairs = merge_sorted(
+            old_wall_pairs
+                .iter()
+                .filter(|p| !awake[p[0] as usize])
+                .copied(),
+            wall_found,
+        );
+        self.reference = positions.to_vec();
+        self.reference_angles = angles.to_vec();
+        self.rebuilds += 1;
+    }
+}
+
+/// The union of two sorted lists without common elements, sorted.
+fn merge_sorted(a: impl Iterator<Item = [u32; 2]>, b: Vec<[u32; 2]>) -> Vec<[u32; 2]> {
+    let mut out = Vec::with_capacity(b.len());
+    let mut b = b.into_iter().peekable();
+    for x in a {
+        while let Some(y) = b.next_if(|y| *y < x) {
+            out.push(y);
+        }
+        out.push(x);
+    }
+    out.extend(b);
+    out
+}
+
 /// Whether a grain displaced by `shift` and turned by `turn` may have a vertex (at most `arm`
 /// from its centre) more than half the skin from where it was: a vertex moves at most
 /// |shift| + arm |turn|. A non-finite displacement counts as moved.

@@ -24,11 +24,17 @@ impl World {
         self.prime()?;
         let dt = self.dt;
         let stale = self.kick_drift_place(dt);
-        if stale {
+        let sleep_due = self.sleep_check_due();
+        if sleep_due {
+            self.fall_asleep();
+        }
+        if stale || sleep_due || self.dormancy.woken {
             self.rebuild_neighbours()?;
         }
         self.compute_forces();
+        self.wake_disturbed();
         self.kick(dt / 2.0);
+        self.count_quiet();
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -53,23 +59,50 @@ impl World {
         Ok(())
     }
 
-    /// Runs `steps` steps.
+    /// Runs `steps` steps. While few grains are awake the steps run on one thread of a pool
+    /// of their own: a pass over a few grains takes less time than waking a second thread.
     pub fn run(&mut self, steps: u64) -> Result<(), SimError> {
-        for _ in 0..steps {
-            self.step()?;
+        let mut done = 0;
+        while done < steps {
+            self.prime()?;
+            let serial = self.min_len == usize::MAX;
+            // Run until the mode changes (checked every few steps; the answer is the same).
+            let batch = (steps - done).min(64);
+            if serial {
+                let pool = self.serial_pool()?;
+                pool.install(|| (0..batch).try_for_each(|_| self.step()))?;
+            } else {
+                (0..batch).try_for_each(|_| self.step())?;
+            }
+            done += batch;
         }
         Ok(())
     }
 
-    /// The second half kick: v += a dt/2.
+    fn serial_pool(&mut self) -> Result<std::sync::Arc<rayon::ThreadPool>, SimError> {
+        if self.serial_pool.is_none() {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(1)
+                .build()
+                .map_err(|e| SimError::ThreadPool(e.to_string()))?;
+            self.serial_pool = Some(std::sync::Arc::new(pool));
+        }
+        Ok(self.serial_pool.clone().expect("made above"))
+    }
+
+    /// The second half kick: v += a dt/2 (sleeping grains stay at rest).
     fn kick(&mut self, kick: f64) {
-        let g = &mut self.grains;
+        let (g, awake) = (&mut self.grains, &self.dormancy.awake);
         (&mut g.velocity, &mut g.angular_velocity)
             .into_par_iter()
             .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
-            .for_each(|((v, w), (f, t, im, ii))| {
-                *v += f * (im * kick);
-                *w += t * ii * kick;
+            .zip(awake)
+            .with_min_len(self.min_len)
+            .for_each(|(((v, w), (f, t, im, ii)), &awake)| {
+                if awake {
+                    *v += f * (im * kick);
+                    *w += t * ii * kick;
+                }
             });
     }
 
@@ -83,7 +116,7 @@ impl World {
         }
         let (reference, reference_angles) = self.verlet.reference();
         let fresh = reference.len() == self.grains.len();
-        let (shapes, arm) = (&self.shapes, &self.arm);
+        let (shapes, arm, awake) = (&self.shapes, &self.arm, &self.dormancy.awake);
         let g = &mut self.grains;
         let (force, torque, inverse_mass, inverse_inertia, shape) = (
             &g.force,
@@ -102,8 +135,13 @@ impl World {
             self.placed_directions.par_chunks_mut(stride),
         )
             .into_par_iter()
+            .with_min_len(self.min_len)
             .enumerate()
             .map(|(i, (x, theta, rotation, v, w, vertices, directions))| {
+                // Fixed and sleeping grains stay where they are, cores placed.
+                if !awake[i] {
+                    return !fresh;
+                }
                 *v += force[i] * (inverse_mass[i] * dt / 2.0);
                 *w += torque[i] * inverse_inertia[i] * dt / 2.0;
                 *x += *v * dt;
@@ -161,17 +199,32 @@ impl World {
                 !found.is_empty()
             };
             let g = &this.grains;
-            verlet.rebuild(
-                &g.position,
-                &g.angle,
-                &this.reach,
-                &this.mobile,
-                &this.walls,
-                this.skin,
-                near,
-            );
+            if this.dormancy.enabled() && verlet.rebuilds > 0 {
+                verlet.rebuild_around_awake(
+                    &old_pairs,
+                    &old_wall_pairs,
+                    &g.position,
+                    &g.angle,
+                    &this.reach,
+                    &this.dormancy.awake,
+                    &this.walls,
+                    this.skin,
+                    near,
+                );
+            } else {
+                verlet.rebuild(
+                    &g.position,
+                    &g.angle,
+                    &this.reach,
+                    &this.mobile,
+                    &this.walls,
+                    this.skin,
+                    near,
+                );
+            }
         }
         self.verlet = verlet;
+        self.dormancy.woken = false;
         self.switching_dropped +=
             dropped_switching(&old_pairs, &self.pair_contacts, &self.verlet.pairs)
                 + dropped_switching(
@@ -188,6 +241,10 @@ impl World {
         let n = self.grains.len();
         self.pair_incidence = Incidence::build(n, &self.verlet.pairs, true);
         self.wall_incidence = Incidence::build(n, &self.verlet.wall_pairs, false);
+        self.find_watched();
+        // Splitting a pass over threads costs microseconds: not worth it for a few grains.
+        let awake = self.dormancy.awake.iter().filter(|a| **a).count();
+        self.min_len = if awake < SERIAL_BELOW { usize::MAX } else { 1 };
         Ok(())
     }
 
@@ -209,6 +266,19 @@ impl World {
                     directions[k] = rotate(outline.edge_directions()[k], cos, sin);
                 }
             });
+    }
+
+    /// Places one grain's core (a grain added or moved by hand; the step places the others).
+    pub(crate) fn place_core(&mut self, i: usize) {
+        let outline = &self.shapes[self.grains.shape[i] as usize].shape;
+        let (cos, sin) = self.grains.rotation[i];
+        let slots = i * self.stride..(i + 1) * self.stride;
+        let vertices = &mut self.placed_vertices[slots.clone()];
+        let directions = &mut self.placed_directions[slots];
+        for (k, v) in outline.vertices().iter().enumerate() {
+            vertices[k] = self.grains.position[i] + rotate(*v, cos, sin);
+            directions[k] = rotate(outline.edge_directions()[k], cos, sin);
+        }
     }
 
     fn placed(&self, i: usize) -> PlacedCore<'_> {
@@ -247,12 +317,19 @@ impl World {
         wall_push.resize(wall_contacts.len(), Push::default());
         {
             let this = &*self;
+            let awake = &this.dormancy.awake;
             pair_contacts
                 .par_iter_mut()
                 .zip(pair_push.par_iter_mut())
                 .zip(&this.verlet.pairs)
+                .with_min_len(this.min_len)
                 .for_each(|((contact, push), &[i, j])| {
                     let (i, j) = (i as usize, j as usize);
+                    if !(awake[i] || awake[j]) {
+                        // Both at rest: the contact keeps the force it had.
+                        *push = Push::of(contact);
+                        return;
+                    }
                     let (first, second) = (this.placed(i), this.placed(j));
                     let would_be = |f: Features| feature_overlap(&first, &second, f);
                     let reach = this.reach[i] + this.reach[j];
@@ -273,8 +350,13 @@ impl World {
                 .par_iter_mut()
                 .zip(wall_push.par_iter_mut())
                 .zip(&this.verlet.wall_pairs)
+                .with_min_len(this.min_len)
                 .for_each(|((contact, push), &[i, k])| {
                     let (i, k) = (i as usize, k as usize);
+                    if !awake[i] {
+                        *push = Push::of(contact);
+                        return;
+                    }
                     let (core, wall) = (this.placed(i), &this.walls[k]);
                     let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                     core_wall_sub_contacts(&core, wall, &mut found);
@@ -287,6 +369,7 @@ impl World {
         }
         let gravity = self.settings.gravity;
         let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
+        let (awake, watched) = (&self.dormancy.awake, &self.dormancy.watched);
         let crate::dynamics::Grains {
             force,
             torque,
@@ -295,8 +378,13 @@ impl World {
         } = &mut self.grains;
         (force, torque)
             .into_par_iter()
+            .with_min_len(self.min_len)
             .enumerate()
             .for_each(|(i, (force, torque))| {
+                // A sleeping grain's forces change only through awake neighbours.
+                if mobile[i] && !(awake[i] || watched[i]) {
+                    return;
+                }
                 let mut f = Vec2::zeros();
                 let mut t = 0.0;
                 if mobile[i] {
@@ -326,6 +414,9 @@ impl World {
         self.wall_push = wall_push;
     }
 }
+
+/// Below this many awake grains a step runs on one thread.
+const SERIAL_BELOW: usize = 256;
 
 /// What a contact does to its two bodies this step.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]

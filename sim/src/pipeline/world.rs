@@ -2,6 +2,7 @@ use serde::{Deserialize, Serialize};
 
 use super::contacts::{Body, ContactRecord, Incidence, PairContact};
 use super::energy::Energies;
+use super::sleep::Dormancy;
 use super::time_step::{critical_time_step, default_time_step};
 use crate::broad_phase::VerletList;
 use crate::dynamics::{ContactLaw, Grains, Wall};
@@ -97,6 +98,14 @@ pub struct World {
     pub(crate) forces_ready: bool,
     /// Switching energy of pairs no longer in the Verlet list.
     pub(crate) switching_dropped: f64,
+    pub(crate) dormancy: Dormancy,
+    /// Smallest piece of a parallel pass given to one thread (`usize::MAX`: one thread).
+    pub(crate) min_len: usize,
+    /// A one-thread pool that runs steps with few awake grains without handing each pass to
+    /// another thread (made when first needed; not saved: a world read back makes its own, and
+    /// the results do not depend on the thread count).
+    #[serde(skip)]
+    pub(crate) serial_pool: Option<std::sync::Arc<rayon::ThreadPool>>,
 }
 
 impl World {
@@ -154,6 +163,9 @@ impl World {
             wall_incidence: Incidence::default(),
             forces_ready: false,
             switching_dropped: 0.0,
+            dormancy: Dormancy::default(),
+            min_len: 1,
+            serial_pool: None,
         })
     }
 
@@ -260,7 +272,10 @@ impl World {
         self.arm
             .push(entry.shape.bounding_radius() - entry.shape.radius());
         self.mobile.push(mobile);
-        Ok(GrainId(self.grains.len() - 1))
+        self.dormancy.push(mobile);
+        let i = self.grains.len() - 1;
+        self.place_core(i);
+        Ok(GrainId(i))
     }
 
     pub fn add_wall(&mut self, wall: Wall) -> Result<usize, SimError> {
@@ -401,7 +416,12 @@ impl World {
         if self.mobile[i] {
             g.velocity[i] = state.velocity;
             g.angular_velocity[i] = state.angular_velocity;
+            // A grain moved by hand may now overlap sleeping ones: it and the list wake up.
+            self.dormancy.awake[i] = true;
+            self.dormancy.quiet_steps[i] = 0;
+            self.dormancy.woken = true;
         }
+        self.place_core(i);
     }
 
     /// Every sub-contact at the last force evaluation.

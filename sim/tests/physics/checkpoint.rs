@@ -1,6 +1,6 @@
 //! A world written mid-pour and read back continues with the same bits as the original.
 
-use sim::{ContactLaw, GrainState, Vec2, Wall, World};
+use sim::{ContactLaw, GrainState, SleepSettings, Vec2, Wall, World};
 
 use super::common::*;
 
@@ -31,25 +31,49 @@ fn pour() -> World {
     w
 }
 
-#[test]
-fn a_restored_world_continues_bit_for_bit() {
-    let mut original = pour();
-    original.run(6_000).unwrap();
+/// Runs `before` steps, writes the world and reads it back, runs both `after` more steps and
+/// compares every byte of the two. Returns the world at the checkpoint and at the end.
+fn continue_both(mut original: World, before: u64, after: u64) -> (World, World) {
+    original.run(before).unwrap();
     let bytes = postcard::to_stdvec(&original).unwrap();
     let mut restored: World = postcard::from_bytes(&bytes).unwrap();
-    // The pour is mid-collision: contacts with tangential history are part of what is restored.
-    assert!(
-        original.contacts().count() > 50,
-        "{} contacts",
-        original.contacts().count()
-    );
-    assert!(original.contacts().any(|c| c.displacement != 0.0));
-    original.run(4_000).unwrap();
-    restored.run(4_000).unwrap();
-    assert_eq!(restored.steps(), 10_000);
+    let at_checkpoint = original.clone();
+    original.run(after).unwrap();
+    restored.run(after).unwrap();
+    assert_eq!(restored.steps(), at_checkpoint.steps() + after);
     assert!(
         postcard::to_stdvec(&original).unwrap() == postcard::to_stdvec(&restored).unwrap(),
         "the restored world drifted from the original"
     );
-    assert!(original.verlet_rebuilds() > 1);
+    (at_checkpoint, restored)
+}
+
+#[test]
+fn a_restored_world_continues_bit_for_bit() {
+    let (at_checkpoint, end) = continue_both(pour(), 6_000, 4_000);
+    // The pour is mid-collision: contacts with tangential history are part of what is restored.
+    let contacts = at_checkpoint.contacts().count();
+    assert!(contacts > 50, "{contacts} contacts");
+    assert!(at_checkpoint.contacts().any(|c| c.displacement != 0.0));
+    assert!(end.verlet_rebuilds() > at_checkpoint.verlet_rebuilds());
+}
+
+#[test]
+fn a_restored_world_with_sleeping_grains_continues_bit_for_bit() {
+    // A column of 10 squares asleep on the floor, and a grain falling onto it.
+    let n = 10;
+    let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
+    add_floor(&mut w);
+    let square = add_square(&mut w);
+    stack_at_equilibrium(&mut w, square, n, 10.0);
+    w.set_sleep(Some(SleepSettings::default())).unwrap();
+    w.run((0.05 / w.time_step()).ceil() as u64).unwrap();
+    assert_eq!(w.sleeping(), n);
+    let top = SIDE / 2.0 + n as f64 * SIDE;
+    w.add_grain(square, moving(0.0, top + 2e-3, 0.0, 0.0, -1.0))
+        .unwrap();
+    // Written while the column sleeps; after it the impact wakes part of it, in both worlds.
+    let (at_checkpoint, end) = continue_both(w, 100, 5_000);
+    assert_eq!(at_checkpoint.sleeping(), n);
+    assert!(end.sleeping() < n, "the impact woke no grain");
 }

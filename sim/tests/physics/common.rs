@@ -55,3 +55,21 @@ pub fn moving(x: f64, y: f64, angle: f64, vx: f64, vy: f64) -> GrainState {
 pub fn mass(world: &World, i: usize) -> f64 {
     world.grains().mass[i]
 }
+
+/// A column of `n` squares on a floor at y = 0, each contact started at its equilibrium
+/// overlap: the one under grain k carries (n - k) m g over two sub-contacts. (A column let to
+/// settle by itself rings for seconds: its lowest mode barely stretches the dashpots.)
+pub fn stack_at_equilibrium(w: &mut World, square: ShapeId, n: usize, gravity: f64) {
+    let m = mass_of_square();
+    let k = w.settings().law.normal_stiffness;
+    let mut y = SIDE / 2.0 - n as f64 * m * gravity / (2.0 * k);
+    for i in 0..n {
+        w.add_grain(square, at(0.0, y, 0.0)).unwrap();
+        let above = (n - i - 1) as f64;
+        y += SIDE - above * m * gravity / (2.0 * k);
+    }
+}
+
+pub fn mass_of_square() -> f64 {
+    square().mass_properties(NUT_DENSITY).unwrap().0
+}

@@ -8,4 +8,5 @@ mod energy;
 mod impacts;
 mod inputs;
 mod resting;
+mod sleeping;
 mod slope;

@@ -44,13 +44,7 @@ fn column_of_twenty_squares_loads_the_floor_with_its_weight() {
     let floor = add_floor(&mut w);
     let id = add_square(&mut w);
     let m = square().mass_properties(NUT_DENSITY).unwrap().0;
-    // Start each contact at its equilibrium overlap: the one under grain k carries (n - k) m g.
-    let mut y = resting_height((n as f64) * m * G / (2.0 * law.normal_stiffness));
-    for k in 0..n {
-        w.add_grain(id, at(0.0, y, 0.0)).unwrap();
-        let above = (n - k - 1) as f64;
-        y += SIDE - above * m * G / (2.0 * law.normal_stiffness);
-    }
+    stack_at_equilibrium(&mut w, id, n, G);
     w.run((0.2 / w.time_step()).round() as u64).unwrap();
     let weight = n as f64 * m * G;
     let load = -w.wall_load(floor).y;
