@@ -2,6 +2,7 @@
 
 mod collisions;
 mod common;
+mod contact_table;
 mod determinism;
 mod energy;
 mod impacts;
