@@ -70,7 +70,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 } else {
                     "filling".to_string()
                 };
-                bar.set_message(format!("{}/{} grains in, {phase}", p.inserted, p.total));
+                let asleep = if p.asleep > 0 {
+                    format!(", {} asleep", p.asleep)
+                } else {
+                    String::new()
+                };
+                bar.set_message(format!(
+                    "{}/{} grains in{asleep}, {phase}",
+                    p.inserted, p.total
+                ));
             };
             let dir = out.join(format!("seed-{seed}"));
             let record = fill(&scene, seed, &dir, &mut update)

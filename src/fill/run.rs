@@ -26,6 +26,8 @@ pub struct FillProgress {
     pub energy_ratio: f64,
     /// |load on floor and walls - weight| / weight at the last check (NaN while filling).
     pub load_imbalance: f64,
+    /// Grains asleep (not integrated) now.
+    pub asleep: usize,
 }
 
 /// A grain slower than this fraction of the inflow speed and touching something has landed.
@@ -114,6 +116,7 @@ pub fn fill(
                 relaxing: silo.feeder.done(),
                 energy_ratio,
                 load_imbalance: imbalance,
+                asleep: world.sleeping(),
             });
             if silo.feeder.done() {
                 if scene.model.wake_to_relax && world.sleep_settings().is_some() {
