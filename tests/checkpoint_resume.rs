@@ -231,7 +231,7 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_to_the_same_files() {
     let text = SCENE
         .replace(
             "max_relaxation_time_s = 0.05",
-            "max_relaxation_time_s = 0.15\n\n[model]\nsleep = true",
+            "max_relaxation_time_s = 0.3\n\n[model]\nsleep = true",
         )
         .replace("snapshot_every_steps = 1000\n", "");
     let scene = dir.path().join("scene.toml");
@@ -256,7 +256,7 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_to_the_same_files() {
     let start = std::time::Instant::now();
     while !periodic.exists() {
         assert!(start.elapsed().as_secs() < 120, "no checkpoint appeared");
-        std::thread::sleep(std::time::Duration::from_millis(10));
+        std::thread::sleep(std::time::Duration::from_millis(2));
     }
     // SAFETY: kill(2) on the pid of a child this test spawned and has not yet waited for.
     assert_eq!(unsafe { libc::kill(child.id() as i32, libc::SIGINT) }, 0);

@@ -112,7 +112,15 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 } else {
                     "filling".to_string()
                 };
-                bar.set_message(format!("{}/{} grains in, {phase}", p.inserted, p.total));
+                let asleep = if p.asleep > 0 {
+                    format!(", {} asleep", p.asleep)
+                } else {
+                    String::new()
+                };
+                bar.set_message(format!(
+                    "{}/{} grains in{asleep}, {phase}",
+                    p.inserted, p.total
+                ));
             };
             let control = FillControl {
                 resume: job.resume,

@@ -29,6 +29,8 @@ pub struct FillProgress {
     pub energy_ratio: f64,
     /// |load on floor and walls - weight| / weight at the last check (NaN while filling).
     pub load_imbalance: f64,
+    /// Grains asleep (not integrated) now.
+    pub asleep: usize,
 }
 
 /// A grain slower than this fraction of the inflow speed and touching something has landed.
@@ -225,6 +227,7 @@ pub fn fill_with(
                     relaxing: silo.feeder.done(),
                     energy_ratio: st.energy_ratio,
                     load_imbalance: st.imbalance,
+                    asleep: world.sleeping(),
                 });
                 if silo.feeder.done() {
                     if scene.model.wake_to_relax && world.sleep_settings().is_some() {

@@ -13,23 +13,24 @@ pub enum Body {
 }
 
 /// A sub-contact as it stood at the last force evaluation, with its tangential history.
+///
+/// Its normal and point are not kept: every step streams all contacts through the cache, so
+/// each byte here costs time in a large deposit. [`World::contacts`](super::World::contacts)
+/// finds them again from the placed cores, which have not moved since.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SubContactState {
     pub features: Features,
     /// Accumulated tangential displacement xi (m), along perp(normal).
     pub displacement: f64,
-    /// Unit normal from the second body to the first.
-    pub normal: Vec2,
-    pub point: Vec2,
     pub overlap: f64,
     pub normal_force: f64,
     pub tangential_force: f64,
 }
 
 impl SubContactState {
-    /// Force on the first body.
-    pub fn force(&self) -> Vec2 {
-        self.normal * self.normal_force + perp(self.normal) * self.tangential_force
+    /// Force on the first body, given the sub-contact's unit normal.
+    pub fn force(&self, normal: Vec2) -> Vec2 {
+        normal * self.normal_force + perp(normal) * self.tangential_force
     }
 }
 
@@ -145,8 +146,6 @@ impl PairContact {
             subs.push(SubContactState {
                 features: sc.features,
                 displacement: f.displacement,
-                normal: sc.normal,
-                point: sc.point,
                 overlap: sc.overlap,
                 normal_force: f.normal,
                 tangential_force: f.tangential,

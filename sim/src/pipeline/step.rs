@@ -281,7 +281,7 @@ impl World {
         }
     }
 
-    fn placed(&self, i: usize) -> PlacedCore<'_> {
+    pub(crate) fn placed(&self, i: usize) -> PlacedCore<'_> {
         let shape = &self.shapes[self.grains.shape[i] as usize].shape;
         let a = i * self.stride;
         let b = a + shape.vertices().len();

@@ -8,7 +8,9 @@ use crate::broad_phase::VerletList;
 use crate::dynamics::{ContactLaw, Grains, Wall};
 use crate::error::SimError;
 use crate::math::Vec2;
+use crate::query::{SubContact, core_core_sub_contacts, core_wall_sub_contacts};
 use crate::shape::Spheropolygon;
+use smallvec::SmallVec;
 
 /// Engine settings that hold for a whole run.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -424,31 +426,38 @@ impl World {
         self.place_core(i);
     }
 
-    /// Every sub-contact at the last force evaluation.
+    /// Every sub-contact at the last force evaluation. Normals and contact points are found
+    /// again by the narrow phase on the placed cores (the grains have not moved since).
     pub fn contacts(&self) -> impl Iterator<Item = ContactRecord> + '_ {
         let pairs = self
             .verlet
             .pairs
             .iter()
             .zip(&self.pair_contacts)
-            .map(|(p, c)| (p[0] as usize, Body::Grain(p[1] as usize), c));
+            .filter(|(_, c)| !c.subs.is_empty())
+            .flat_map(move |([i, j], c)| {
+                let (first, second) = (self.placed(*i as usize), self.placed(*j as usize));
+                let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                let previous = || c.subs.iter().map(|s| s.features);
+                core_core_sub_contacts(&first, &second, previous, &mut found);
+                records(*i as usize, Body::Grain(*j as usize), c, found)
+            });
         let walls = self
             .verlet
             .wall_pairs
             .iter()
             .zip(&self.wall_contacts)
-            .map(|(p, c)| (p[0] as usize, Body::Wall(p[1] as usize), c));
-        pairs.chain(walls).flat_map(|(first, second, c)| {
-            c.subs.iter().map(move |s| ContactRecord {
-                first,
-                second,
-                force: s.force(),
-                point: s.point,
-                normal: s.normal,
-                overlap: s.overlap,
-                displacement: s.displacement,
-            })
-        })
+            .filter(|(_, c)| !c.subs.is_empty())
+            .flat_map(move |([i, k], c)| {
+                let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                core_wall_sub_contacts(
+                    &self.placed(*i as usize),
+                    &self.walls[*k as usize],
+                    &mut found,
+                );
+                records(*i as usize, Body::Wall(*k as usize), c, found)
+            });
+        pairs.chain(walls)
     }
 
     /// Total force the grains exert on wall `k`.
@@ -482,6 +491,27 @@ impl World {
         }
         e
     }
+}
+
+/// The records of one pair's stored sub-contacts, with the normals and points of `found`.
+fn records(
+    first: usize,
+    second: Body,
+    contact: &PairContact,
+    found: SmallVec<[SubContact; 4]>,
+) -> impl Iterator<Item = ContactRecord> + '_ {
+    contact.subs.iter().filter_map(move |s| {
+        let geometry = found.iter().find(|f| f.features == s.features)?;
+        Some(ContactRecord {
+            first,
+            second,
+            force: s.force(geometry.normal),
+            point: geometry.point,
+            normal: geometry.normal,
+            overlap: s.overlap,
+            displacement: s.displacement,
+        })
+    })
 }
 
 /// (cos, sin) of an angle.

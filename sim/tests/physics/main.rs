@@ -3,6 +3,7 @@
 mod checkpoint;
 mod collisions;
 mod common;
+mod contact_table;
 mod determinism;
 mod energy;
 mod impacts;
