@@ -238,18 +238,17 @@ impl World {
             return;
         };
         let gravity = self.settings.gravity.norm();
-        let (g, d, arm) = (&self.grains, &mut self.dormancy, &self.arm);
-        for i in 0..self.mobile.len() {
+        let (g, d) = (&self.grains, &mut self.dormancy);
+        for (i, (quiet_steps, &arm)) in d.quiet_steps.iter_mut().zip(&self.arm).enumerate() {
             if !d.awake[i] {
                 continue;
             }
-            let weight = g.mass[i] * gravity;
-            let limit = s.force_fraction * weight;
-            let quiet = g.velocity[i].norm() + arm[i] * g.angular_velocity[i].abs() < s.speed
+            let limit = s.force_fraction * g.mass[i] * gravity;
+            let quiet = g.velocity[i].norm() + arm * g.angular_velocity[i].abs() < s.speed
                 && g.force[i].norm() < limit
-                && g.torque[i].abs() < limit * arm[i];
-            d.quiet_steps[i] = if quiet {
-                d.quiet_steps[i].saturating_add(1)
+                && g.torque[i].abs() < limit * arm;
+            *quiet_steps = if quiet {
+                quiet_steps.saturating_add(1)
             } else {
                 0
             };
