@@ -3,8 +3,8 @@
 
 use facets::analysis::stats::MeanErr;
 use facets::bench::fill::{
-    self, BenchConfig, MeasureInput, Measures, PressureMeasure, REFERENCE, ReferenceScene,
-    Setting, WITHIN, deviations, l1, rms, scalar,
+    self, BenchConfig, MeasureInput, Measures, PressureMeasure, REFERENCE, ReferenceScene, Setting,
+    WITHIN, deviations, l1, rms, scalar,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -163,15 +163,30 @@ fn a_tiny_bench_writes_every_output() {
     assert_eq!(done.into_inner(), 4);
     let written = fill::write_all(out.path(), &report).unwrap();
     for path in &written {
-        assert!(std::fs::metadata(path).unwrap().len() > 0, "{}", path.display());
+        assert!(
+            std::fs::metadata(path).unwrap().len() > 0,
+            "{}",
+            path.display()
+        );
     }
     assert_eq!(report.rows.len(), 2);
     assert_eq!(report.rows[0].setting, REFERENCE);
     let n25 = &report.rows[1];
     assert_eq!(n25.setting, "n25");
-    assert!(n25.time_step_s > 1e-6, "n25 must step coarser than the faithful 1e-6 s");
+    assert!(
+        n25.time_step_s > 1e-6,
+        "n25 must step coarser than the faithful 1e-6 s"
+    );
     let d = n25.deviations.expect("n25 is compared with faithful");
-    for v in [d.phi_f, d.orientation, d.rdf, d.pressure, n25.speed_up, n25.cpu_s, n25.wall_s] {
+    for v in [
+        d.phi_f,
+        d.orientation,
+        d.rdf,
+        d.pressure,
+        n25.speed_up,
+        n25.cpu_s,
+        n25.wall_s,
+    ] {
         assert!(v.is_finite(), "{d:?}, speed-up {}", n25.speed_up);
     }
     // The CSV: a header and one row per scene x setting, numbers that parse and are finite.

@@ -37,9 +37,9 @@ pub fn write_speed_error(
             groups.push(&p.group);
         }
     }
-    let (mut x0, mut x1) = shown
-        .iter()
-        .fold((1.0f64, 1.0f64), |(a, b), p| (a.min(p.speed_up), b.max(p.speed_up)));
+    let (mut x0, mut x1) = shown.iter().fold((1.0f64, 1.0f64), |(a, b), p| {
+        (a.min(p.speed_up), b.max(p.speed_up))
+    });
     x0 /= 1.5;
     x1 *= 1.5;
     let y1 = shown
@@ -73,8 +73,7 @@ pub fn write_speed_error(
         .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
         for (k, group) in groups.iter().enumerate() {
             let colour = palette(k);
-            let mine: Vec<&&SpeedErrorPoint> =
-                shown.iter().filter(|p| p.group == *group).collect();
+            let mine: Vec<&&SpeedErrorPoint> = shown.iter().filter(|p| p.group == *group).collect();
             ctx.draw_series(
                 mine.iter()
                     .map(|p| Circle::new((p.speed_up, p.deviation), 6, colour.filled())),

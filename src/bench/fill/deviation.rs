@@ -23,7 +23,13 @@ impl Deviations {
     pub fn largest(&self) -> f64 {
         [self.phi_f, self.orientation, self.rdf, self.pressure]
             .into_iter()
-            .fold(0.0, |m: f64, d| if d.is_nan() || m.is_nan() { f64::NAN } else { m.max(d) })
+            .fold(0.0, |m: f64, d| {
+                if d.is_nan() || m.is_nan() {
+                    f64::NAN
+                } else {
+                    m.max(d)
+                }
+            })
     }
 
     pub fn within(&self) -> bool {
@@ -45,7 +51,10 @@ fn ratio(num: f64, den: f64) -> f64 {
 
 /// |mean_s - mean_ref| / sqrt(se_s^2 + se_ref^2).
 pub fn scalar(s: MeanErr, reference: MeanErr) -> f64 {
-    ratio((s.mean - reference.mean).abs(), s.stderr.hypot(reference.stderr))
+    ratio(
+        (s.mean - reference.mean).abs(),
+        s.stderr.hypot(reference.stderr),
+    )
 }
 
 /// sum_k |y_s - y_ref| / sum_k sqrt(se_s^2 + se_ref^2); NaN when the series differ in length
@@ -56,7 +65,11 @@ pub fn l1(s: &[f64], s_err: &[f64], reference: &[f64], reference_err: &[f64]) ->
         return f64::NAN;
     }
     let num: f64 = s.iter().zip(reference).map(|(a, b)| (a - b).abs()).sum();
-    let den: f64 = s_err.iter().zip(reference_err).map(|(a, b)| a.hypot(*b)).sum();
+    let den: f64 = s_err
+        .iter()
+        .zip(reference_err)
+        .map(|(a, b)| a.hypot(*b))
+        .sum();
     ratio(num, den)
 }
 
@@ -92,7 +105,10 @@ pub fn deviations(s: &Measures, reference: &Measures) -> Deviations {
         _ => f64::NAN,
     };
     let same_r = s.r.len() == reference.r.len()
-        && s.r.iter().zip(&reference.r).all(|(a, b)| (a - b).abs() < 1e-9);
+        && s.r
+            .iter()
+            .zip(&reference.r)
+            .all(|(a, b)| (a - b).abs() < 1e-9);
     Deviations {
         phi_f: scalar(s.phi_f, reference.phi_f),
         orientation: l1(&s.f, &s.f_err, &reference.f, &reference.f_err),

@@ -72,7 +72,11 @@ impl Measures {
             ..RdfInput::default()
         };
         let g = rdf::compute(&rdf_input, ensemble)?;
-        let keep = g.r.iter().take_while(|&&r| r < RDF_R_MAX).count().min(g.g.len());
+        let keep =
+            g.r.iter()
+                .take_while(|&&r| r < RDF_R_MAX)
+                .count()
+                .min(g.g.len());
         let w_over_d = input.w_over_d.unwrap_or(match ensemble.shape {
             Shape::Square => 4.0,
             _ => 3.0,

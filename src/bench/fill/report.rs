@@ -90,7 +90,13 @@ pub fn write_markdown(path: &Path, report: &BenchReport) -> anyhow::Result<()> {
             writeln!(
                 w,
                 "| {} | {} | {:.1} | {:.1} | {:.2} | {devs} | {within} | {}/{} |",
-                row.scene, row.setting, row.wall_s, row.cpu_s, row.speed_up, row.not_relaxed, row.runs
+                row.scene,
+                row.setting,
+                row.wall_s,
+                row.cpu_s,
+                row.speed_up,
+                row.not_relaxed,
+                row.runs
             )?;
         }
         Ok(())

@@ -44,8 +44,18 @@ pub const SETTINGS: [Setting; 8] = [
     stepped("n100", "dt = t_c / 100, sleep off", 100.0, false),
     stepped("n50", "dt = t_c / 50, sleep off", 50.0, false),
     stepped("n25", "dt = t_c / 25, sleep off", 25.0, false),
-    stepped("n50-sleep", "dt = t_c / 50, resting grains sleep", 50.0, true),
-    stepped("n25-sleep", "dt = t_c / 25, resting grains sleep", 25.0, true),
+    stepped(
+        "n50-sleep",
+        "dt = t_c / 50, resting grains sleep",
+        50.0,
+        true,
+    ),
+    stepped(
+        "n25-sleep",
+        "dt = t_c / 25, resting grains sleep",
+        25.0,
+        true,
+    ),
     Setting {
         name: "fixed-insertion",
         what: "dt = t_c / 50, grains enter at the top of the silo and fall the whole way",
