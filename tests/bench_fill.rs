@@ -189,6 +189,13 @@ fn a_tiny_bench_writes_every_output() {
     ] {
         assert!(v.is_finite(), "{d:?}, speed-up {}", n25.speed_up);
     }
+    // The candidate for the defaults is n25 exactly when it passes.
+    let fastest = fill::fastest_within(&report);
+    if d.within() {
+        assert_eq!(fastest, Some(("n25".to_string(), n25.speed_up)));
+    } else {
+        assert_eq!(fastest, None);
+    }
     // The CSV: a header and one row per scene x setting, numbers that parse and are finite.
     let csv = std::fs::read_to_string(out.path().join("fill.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();

@@ -230,3 +230,29 @@ pub fn write_all(out: &Path, report: &BenchReport) -> anyhow::Result<Vec<PathBuf
     })?;
     Ok(vec![csv, md, png, json])
 }
+
+/// The setting within 2 standard errors on every scene with the largest speed-up on its
+/// slowest scene, and that speed-up; None when no setting passes everywhere. This is the
+/// candidate for the defaults (issue 3).
+pub fn fastest_within(report: &BenchReport) -> Option<(String, f64)> {
+    let mut names: Vec<&str> = Vec::new();
+    for row in &report.rows {
+        if row.deviations.is_some() && !names.contains(&row.setting.as_str()) {
+            names.push(&row.setting);
+        }
+    }
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let rows: Vec<&Row> = report.rows.iter().filter(|r| r.setting == name).collect();
+            let all_within = rows
+                .iter()
+                .all(|r| r.deviations.is_some_and(|d| d.within()));
+            let slowest = rows
+                .iter()
+                .map(|r| r.speed_up)
+                .fold(f64::INFINITY, f64::min);
+            (all_within && slowest.is_finite()).then(|| (name.to_string(), slowest))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}

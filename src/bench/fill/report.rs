@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::deviation::WITHIN;
-use super::{BenchReport, Row};
+use super::{BenchReport, Row, fastest_within};
 use crate::io::write_atomic;
 use crate::plot::{SpeedErrorPoint, write_speed_error};
 
@@ -98,6 +98,16 @@ pub fn write_markdown(path: &Path, report: &BenchReport) -> anyhow::Result<()> {
                 row.not_relaxed,
                 row.runs
             )?;
+        }
+        match fastest_within(report) {
+            Some((name, speed_up)) => writeln!(
+                w,
+                "\nFastest setting within {WITHIN} standard errors on every scene: {name} (speed-up at least {speed_up:.1})."
+            )?,
+            None => writeln!(
+                w,
+                "\nNo setting stays within {WITHIN} standard errors on every scene."
+            )?,
         }
         Ok(())
     })
