@@ -1,6 +1,7 @@
 use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
+use clap::builder::{PossibleValue, PossibleValuesParser};
 
 use facets::bench::fill::{
     self, BenchConfig, MeasureInput, ReferenceScene, SCENES, SETTINGS, Setting,
@@ -12,13 +13,8 @@ use crate::cli::progress::bar;
 /// with the same seeds as the paper-faithful one, and each observable's deviation from the
 /// faithful ensemble is given in standard errors (formulas: module facets::bench::fill).
 ///
-/// Scenes (data-samples/scenes/small-*.toml, 96 mm silo, count set by --grains):
-///   square-phi0p05, square-phi0p25, rod3-phi0p04
-/// Settings:
-///   faithful         dt = 1e-6 s, sleep off (the reference; always run)
-///   n400 n100 n50 n25  dt = t_c / n, sleep off
-///   n50-sleep n25-sleep  dt = t_c / n, resting grains sleep
-///   fixed-insertion  dt = t_c / 50, grains enter at the top of the silo
+/// Scenes: the small scenes of data-samples/scenes/ (96 mm silo), grain count set by --grains.
+/// Settings: see --settings (faithful, the reference, is always run).
 ///
 /// Writes into --out: fill.csv, fill.md (the README table), speed_vs_error.png, report.json
 /// (every measure with its standard errors), and the runs in runs/SCENE/SETTING/seed-N/.
@@ -37,10 +33,12 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     pub first_seed: u64,
     /// Settings to compare, by name (faithful is added when missing).
-    #[arg(long, value_delimiter = ',', default_values = SETTINGS.map(|s| s.name))]
+    #[arg(long, value_delimiter = ',', default_values = SETTINGS.map(|s| s.name),
+          value_parser = setting_names())]
     pub settings: Vec<String>,
     /// Reference scenes, by name.
-    #[arg(long, value_delimiter = ',', default_values = SCENES.map(|s| s.name))]
+    #[arg(long, value_delimiter = ',', default_values = SCENES.map(|s| s.name),
+          value_parser = scene_names())]
     pub scenes: Vec<String>,
     /// Simulated time allowed for relaxation after the last grain (s); runs that do not relax
     /// in it are counted in the table.
@@ -53,6 +51,23 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "bench-fill")]
     pub out: PathBuf,
+}
+
+/// The names of the settings table, each with its description (shown by --help).
+fn setting_names() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        SETTINGS
+            .iter()
+            .map(|s| PossibleValue::new(s.name).help(s.what)),
+    )
+}
+
+fn scene_names() -> PossibleValuesParser {
+    PossibleValuesParser::new(
+        SCENES
+            .iter()
+            .map(|s| PossibleValue::new(s.name).help(s.file)),
+    )
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
