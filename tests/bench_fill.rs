@@ -139,8 +139,15 @@ fn under_the_null_deviations_are_of_order_one() {
     assert!((0.9..1.1).contains(&(sum_rms / n)), "{}", sum_rms / n);
 }
 
+fn pool(threads: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+}
+
 /// Two settings (faithful added to n25), 2 seeds, 20 squares: every output written, every
-/// number finite.
+/// number finite, and the same measures on one thread as on two.
 #[test]
 fn a_tiny_bench_writes_every_output() {
     let out = tempfile::tempdir().unwrap();
@@ -156,11 +163,32 @@ fn a_tiny_bench_writes_every_output() {
     };
     assert_eq!(fill::total_runs(&config), 4);
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let report = fill::run_bench(&config, &|_, _, _| {
-        done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    })
-    .unwrap();
+    let report = pool(2)
+        .install(|| {
+            fill::run_bench(&config, &|_, _, _| {
+                done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            })
+        })
+        .unwrap();
     assert_eq!(done.into_inner(), 4);
+    // On one thread (into another folder): the same deposits, so the same measures and
+    // deviations; only the times differ.
+    let other = tempfile::tempdir().unwrap();
+    let serial = pool(1)
+        .install(|| {
+            fill::run_bench(
+                &BenchConfig {
+                    out: other.path().to_path_buf(),
+                    ..config.clone()
+                },
+                &|_, _, _| {},
+            )
+        })
+        .unwrap();
+    for (a, b) in report.rows.iter().zip(&serial.rows) {
+        assert_eq!(a.measures, b.measures, "{} {}", a.scene, a.setting);
+        assert_eq!(a.deviations, b.deviations, "{} {}", a.scene, a.setting);
+    }
     let written = fill::write_all(out.path(), &report).unwrap();
     for path in &written {
         assert!(
