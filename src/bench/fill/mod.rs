@@ -88,6 +88,8 @@ pub struct Row {
     /// None for the reference itself.
     pub deviations: Option<Deviations>,
     pub not_relaxed: usize,
+    /// The seeds that did not relax, with kinetic / elastic energy at their end.
+    pub not_relaxed_seeds: Vec<(u64, f64)>,
     pub measures: Measures,
 }
 
@@ -120,6 +122,11 @@ pub fn run_bench(
         config.seeds
     );
     anyhow::ensure!(!config.scenes.is_empty(), "no scene to run");
+    anyhow::ensure!(
+        config.grains >= 1,
+        "--grains {}: a filling needs at least one grain",
+        config.grains
+    );
     let mut settings: Vec<&'static Setting> = Vec::new();
     if !config.settings.iter().any(|s| s.name == REFERENCE) {
         settings.push(Setting::by_name(REFERENCE)?);
@@ -193,6 +200,11 @@ pub fn run_bench(
             speed_up,
             deviations,
             not_relaxed: records.iter().filter(|r| !r.relaxed).count(),
+            not_relaxed_seeds: records
+                .iter()
+                .filter(|r| !r.relaxed)
+                .map(|r| (r.seed, r.energies.kinetic_j / r.energies.elastic_j))
+                .collect(),
             measures,
         });
     }
