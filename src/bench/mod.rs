@@ -1,3 +1,4 @@
 //! Benchmarks behind `facets bench ...`: the work and its measurement; the CLI only prints.
 
 pub mod engine;
+pub mod fill;

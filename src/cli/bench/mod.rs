@@ -2,6 +2,7 @@
 
 mod analysis;
 mod engine;
+mod fill;
 mod vision;
 
 use clap::Subcommand;
@@ -13,6 +14,8 @@ pub enum Bench {
     Analysis(analysis::Args),
     /// DEM engine throughput (grain-steps per second) on settled dense deposits.
     Engine(engine::Args),
+    // Takes its help (with the list of scenes, settings and outputs) from its Args' docs.
+    Fill(fill::Args),
     /// Detector accuracy (recall, precision, centre and orientation RMS) and time per
     /// photograph on rendered dense packings of every shape, scale and style.
     Vision(vision::Args),
@@ -22,6 +25,7 @@ pub fn run(bench: Bench) -> anyhow::Result<()> {
     match bench {
         Bench::Analysis(args) => analysis::run(args),
         Bench::Engine(args) => engine::run(args),
+        Bench::Fill(args) => fill::run(args),
         Bench::Vision(args) => vision::run(args),
     }
 }

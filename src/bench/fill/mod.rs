@@ -1,0 +1,270 @@
+//! Speed against error of the filling's settings (issue 3, SPEC §5): each faster setting runs
+//! the same reference scenes and seeds as the paper-faithful one, and its ensemble is compared
+//! with the faithful ensemble.
+//!
+//! For every scene x setting, the K seeds run in parallel (rayon over runs; each run is
+//! deterministic given scene and seed, so the deposits, and every deviation, do not depend on
+//! the thread count; only the times do). Times are those of the K runs together: wall time,
+//! and processor time of the process (user + system, all threads). The speed-up is the
+//! faithful setting's processor time over the setting's: on a shared machine the wall time
+//! also measures the other processes.
+//!
+//! Deviations from the faithful ensemble, each in units of the standard error (s: the setting,
+//! ref: faithful; means and standard errors over the K realisations; se = sd / sqrt(K)):
+//!
+//! - packing fraction: |phi_s - phi_ref| / sqrt(se_s^2 + se_ref^2);
+//! - f(theta), 5-degree bins over one period:
+//!   sum_k |f_s,k - f_ref,k| / sum_k sqrt(se_s,k^2 + se_ref,k^2);
+//! - g(r), the same L1 form over the bins with r < 4 D;
+//! - pressure -sigma_yy on the centre line against depth below the free surface, over the
+//!   depths both ensembles reach: sqrt(mean_k (p_s,k - p_ref,k)^2) /
+//!   sqrt(mean_k (se_s,k^2 + se_ref,k^2)).
+//!
+//! Under the null (both ensembles drawn from one distribution) each term is of order one. With
+//! standard errors estimated from K = 8 runs the scalar is |t| with about 14 degrees of freedom:
+//! mean 0.82, above 2 in 6.5 % of cases. The L1 form is a weighted mean of the bins' |t_k|: mean
+//! about 0.8, and for 18 independent bins next to never above 2. The RMS form is about 1
+//! (tests/bench_fill.rs checks these numbers on synthetic ensembles). A setting is "within 2
+//! standard errors" when all four are <= 2 ([`WITHIN`]). Neighbouring bins of g(r) and of the
+//! smoothed pressure are correlated, which makes the L1 and RMS forms spread more than
+//! independent bins would; with one scalar among four, about one faithful-equivalent setting
+//! in twelve would still fail on phi_f alone: read values near 2 as borderline, not verdicts.
+
+mod deviation;
+mod measures;
+mod report;
+mod settings;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::engine::cpu_time;
+use crate::deposit::{Ensemble, LoadOptions, load_realisation};
+use crate::fill::{RunRecord, check_writable, fill};
+
+pub use deviation::{Deviations, WITHIN, deviations, l1, rms, scalar};
+pub use measures::{MeasureInput, Measures, PressureMeasure, RDF_R_MAX};
+pub use report::{write_csv, write_markdown, write_plot};
+pub use settings::{REFERENCE, ReferenceScene, SCENES, SETTINGS, Setting};
+
+/// What to run.
+#[derive(Clone, Debug)]
+pub struct BenchConfig {
+    pub scenes: Vec<&'static ReferenceScene>,
+    /// The reference is added in front when missing: every deviation needs it.
+    pub settings: Vec<&'static Setting>,
+    /// Grains per run (overrides the scene's count).
+    pub grains: usize,
+    /// Seeds first_seed .. first_seed + seeds.
+    pub seeds: u64,
+    pub first_seed: u64,
+    /// run.max_relaxation_time_s of every run (s).
+    pub max_relaxation_time_s: f64,
+    pub measure: MeasureInput,
+    /// Runs go to out/runs/SCENE/SETTING/seed-N/.
+    pub out: PathBuf,
+}
+
+/// One scene x setting.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Row {
+    pub scene: String,
+    pub setting: String,
+    pub runs: usize,
+    /// Time step of the runs (s).
+    pub time_step_s: f64,
+    /// Mean steps per run.
+    pub mean_steps: f64,
+    /// Wall time of the runs together (s).
+    pub wall_s: f64,
+    /// Processor time of the runs together (s).
+    pub cpu_s: f64,
+    /// Faithful processor time over this one's.
+    pub speed_up: f64,
+    /// None for the reference itself.
+    pub deviations: Option<Deviations>,
+    pub not_relaxed: usize,
+    /// The seeds that did not relax, with kinetic / elastic energy at their end.
+    pub not_relaxed_seeds: Vec<(u64, f64)>,
+    pub measures: Measures,
+}
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchReport {
+    pub grains: usize,
+    pub seeds: u64,
+    pub threads: usize,
+    pub max_relaxation_time_s: f64,
+    pub rows: Vec<Row>,
+}
+
+/// Where one run writes.
+pub fn run_dir(out: &Path, scene: &str, setting: &str, seed: u64) -> PathBuf {
+    out.join("runs")
+        .join(scene)
+        .join(setting)
+        .join(format!("seed-{seed}"))
+}
+
+/// Runs every scene x setting x seed and measures the deviations; `done` is called after each
+/// run with its scene, setting and seed (progress).
+pub fn run_bench(
+    config: &BenchConfig,
+    done: &(dyn Fn(&str, &str, u64) + Sync),
+) -> anyhow::Result<BenchReport> {
+    anyhow::ensure!(
+        config.seeds >= 2,
+        "--seeds {}: standard errors need at least 2 seeds",
+        config.seeds
+    );
+    anyhow::ensure!(!config.scenes.is_empty(), "no scene to run");
+    anyhow::ensure!(
+        config.grains >= 1,
+        "--grains {}: a filling needs at least one grain",
+        config.grains
+    );
+    let mut settings: Vec<&'static Setting> = Vec::new();
+    if !config.settings.iter().any(|s| s.name == REFERENCE) {
+        settings.push(Setting::by_name(REFERENCE)?);
+    }
+    for s in &config.settings {
+        if !settings.iter().any(|t| t.name == s.name) {
+            settings.push(s);
+        }
+    }
+    // Put the reference first: its time and measures are needed by the others.
+    settings.sort_by_key(|s| s.name != REFERENCE);
+    let seeds: Vec<u64> = (0..config.seeds).map(|k| config.first_seed + k).collect();
+    // Every scene is built and every folder checked before anything is simulated.
+    let mut jobs = Vec::new();
+    for scene in &config.scenes {
+        for setting in &settings {
+            let built = scene.build(config.grains, config.max_relaxation_time_s, setting)?;
+            for &seed in &seeds {
+                check_writable(&run_dir(&config.out, scene.name, setting.name, seed))?;
+            }
+            jobs.push((*scene, *setting, built));
+        }
+    }
+    let mut rows: Vec<Row> = Vec::new();
+    for (scene, setting, built) in &jobs {
+        let (cpu0, start) = (cpu_time(), Instant::now());
+        let records: Vec<anyhow::Result<RunRecord>> = seeds
+            .par_iter()
+            .map(|&seed| {
+                let dir = run_dir(&config.out, scene.name, setting.name, seed);
+                let record = fill(built, seed, &dir, &mut |_| {}).with_context(|| {
+                    format!(
+                        "scene {}, setting {}, seed {seed}",
+                        scene.name, setting.name
+                    )
+                });
+                done(scene.name, setting.name, seed);
+                record
+            })
+            .collect();
+        let wall_s = start.elapsed().as_secs_f64();
+        let cpu_s = cpu_time() - cpu0;
+        let records = records.into_iter().collect::<anyhow::Result<Vec<_>>>()?;
+        let realisations = seeds
+            .iter()
+            .map(|&seed| {
+                let dir = run_dir(&config.out, scene.name, setting.name, seed);
+                load_realisation(&dir.join("deposit.csv"), &LoadOptions::default())
+            })
+            .collect::<anyhow::Result<Vec<_>>>()?;
+        let ensemble = Ensemble::new(realisations)?;
+        let measures = Measures::of(&ensemble, &config.measure)
+            .with_context(|| format!("measuring scene {}, setting {}", scene.name, setting.name))?;
+        let reference = rows
+            .iter()
+            .find(|r| r.scene == scene.name && r.setting == REFERENCE);
+        let (speed_up, deviations) = match reference {
+            Some(r) if setting.name != REFERENCE => {
+                (r.cpu_s / cpu_s, Some(deviations(&measures, &r.measures)))
+            }
+            _ => (1.0, None),
+        };
+        rows.push(Row {
+            scene: scene.name.to_string(),
+            setting: setting.name.to_string(),
+            runs: records.len(),
+            time_step_s: records[0].time_step_s,
+            mean_steps: records.iter().map(|r| r.steps as f64).sum::<f64>() / records.len() as f64,
+            wall_s,
+            cpu_s,
+            speed_up,
+            deviations,
+            not_relaxed: records.iter().filter(|r| !r.relaxed).count(),
+            not_relaxed_seeds: records
+                .iter()
+                .filter(|r| !r.relaxed)
+                .map(|r| (r.seed, r.energies.kinetic_j / r.energies.elastic_j))
+                .collect(),
+            measures,
+        });
+    }
+    Ok(BenchReport {
+        grains: config.grains,
+        seeds: config.seeds,
+        threads: rayon::current_num_threads(),
+        max_relaxation_time_s: config.max_relaxation_time_s,
+        rows,
+    })
+}
+
+/// Runs `run_bench` will make (the reference included).
+pub fn total_runs(config: &BenchConfig) -> usize {
+    let extra = usize::from(!config.settings.iter().any(|s| s.name == REFERENCE));
+    let mut names: Vec<&str> = config.settings.iter().map(|s| s.name).collect();
+    names.sort_unstable();
+    names.dedup();
+    config.scenes.len() * (names.len() + extra) * config.seeds as usize
+}
+
+/// Writes fill.csv, fill.md, speed_vs_error.png and report.json into `out`; returns their paths.
+pub fn write_all(out: &Path, report: &BenchReport) -> anyhow::Result<Vec<PathBuf>> {
+    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    let csv = out.join("fill.csv");
+    let md = out.join("fill.md");
+    let png = out.join("speed_vs_error.png");
+    let json = out.join("report.json");
+    write_csv(&csv, report)?;
+    write_markdown(&md, report)?;
+    write_plot(&png, report)?;
+    crate::io::write_atomic(&json, |w| {
+        serde_json::to_writer_pretty(&mut *w, report)?;
+        Ok(())
+    })?;
+    Ok(vec![csv, md, png, json])
+}
+
+/// The setting within 2 standard errors on every scene with the largest speed-up on its
+/// slowest scene, and that speed-up; None when no setting passes everywhere. This is the
+/// candidate for the defaults (issue 3).
+pub fn fastest_within(report: &BenchReport) -> Option<(String, f64)> {
+    let mut names: Vec<&str> = Vec::new();
+    for row in &report.rows {
+        if row.deviations.is_some() && !names.contains(&row.setting.as_str()) {
+            names.push(&row.setting);
+        }
+    }
+    names
+        .into_iter()
+        .filter_map(|name| {
+            let rows: Vec<&Row> = report.rows.iter().filter(|r| r.setting == name).collect();
+            let all_within = rows
+                .iter()
+                .all(|r| r.deviations.is_some_and(|d| d.within()));
+            let slowest = rows
+                .iter()
+                .map(|r| r.speed_up)
+                .fold(f64::INFINITY, f64::min);
+            (all_within && slowest.is_finite()).then(|| (name.to_string(), slowest))
+        })
+        .max_by(|a, b| a.1.total_cmp(&b.1))
+}
