@@ -13,6 +13,8 @@ pub struct Setting {
     pub time_step_s: Option<f64>,
     pub steps_per_collision: f64,
     pub sleep: bool,
+    /// Speed below which a grain may fall asleep (m/s); None: the engine's default.
+    pub sleep_speed_m_s: Option<f64>,
     pub insertion: Insertion,
 }
 
@@ -26,18 +28,20 @@ const fn stepped(name: &'static str, what: &'static str, n: f64, sleep: bool) ->
         time_step_s: None,
         steps_per_collision: n,
         sleep,
+        sleep_speed_m_s: None,
         insertion: Insertion::Surface,
     }
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 8] = [
+pub const SETTINGS: [Setting; 9] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
         time_step_s: Some(1e-6),
         steps_per_collision: 400.0,
         sleep: false,
+        sleep_speed_m_s: None,
         insertion: Insertion::Surface,
     },
     stepped("n400", "dt = t_c / 400, sleep off", 400.0, false),
@@ -62,7 +66,17 @@ pub const SETTINGS: [Setting; 8] = [
         time_step_s: None,
         steps_per_collision: 50.0,
         sleep: false,
+        sleep_speed_m_s: None,
         insertion: Insertion::Fixed,
+    },
+    Setting {
+        name: "n25-sleep1cm",
+        what: "dt = t_c / 25, grains slower than 1 cm/s for 5 ms sleep (freezes the ringing)",
+        time_step_s: None,
+        steps_per_collision: 25.0,
+        sleep: true,
+        sleep_speed_m_s: Some(0.01),
+        insertion: Insertion::Surface,
     },
 ];
 
@@ -83,10 +97,12 @@ impl Setting {
     pub fn apply(&self, scene: &Scene) -> Scene {
         let mut s = scene.clone();
         s.run.time_step_s = self.time_step_s;
+        let defaults = ModelSection::default();
         s.model = ModelSection {
             steps_per_collision: self.steps_per_collision,
             sleep: self.sleep,
-            ..ModelSection::default()
+            sleep_speed_m_s: self.sleep_speed_m_s.unwrap_or(defaults.sleep_speed_m_s),
+            ..defaults
         };
         s.feed.insertion = self.insertion;
         s
