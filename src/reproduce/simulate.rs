@@ -1,0 +1,147 @@
+//! Stage 1: the silo fillings of both sides, in parallel, each into its own folder. A filling
+//! whose `run.json` exists for the same scene and seed is not run again: `fill` writes
+//! `run.json` last and every file atomically, so its presence means the run is complete.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+
+use super::layout::Layout;
+use super::plan::{GrainKindName, Plan};
+use crate::fill::{RunRecord, fill};
+use crate::io::write_atomic;
+use crate::scene::Scene;
+
+/// Which side a filling belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Simulation,
+    Photographed,
+}
+
+/// One filling to run (or found done).
+#[derive(Clone, Debug)]
+pub struct Filling {
+    pub kind: GrainKindName,
+    pub phi0: f64,
+    pub seed: u64,
+    pub side: Side,
+    pub dir: PathBuf,
+    pub scene: Scene,
+    /// The scene as written to `scene.toml`; a run is reused only when its file says the same.
+    pub scene_toml: String,
+}
+
+impl Filling {
+    pub fn deposit(&self) -> PathBuf {
+        self.dir.join("deposit.csv")
+    }
+}
+
+/// A finished filling and what it recorded.
+#[derive(Clone, Debug)]
+pub struct Filled {
+    pub filling: Filling,
+    pub record: RunRecord,
+    /// True when the run was found done and not run again.
+    pub reused: bool,
+}
+
+/// The fillings of the plan; `photographed` false leaves out the photographed side (real
+/// photographs given).
+pub fn fillings(plan: &Plan, layout: &Layout, photographed: bool) -> anyhow::Result<Vec<Filling>> {
+    let mut out = Vec::new();
+    for shape in &plan.shapes {
+        for &phi0 in &shape.phi0s {
+            let scene = plan.scene(shape, phi0)?;
+            let scene_toml = plan.scene_toml(shape, phi0);
+            let mut sides = vec![(Side::Simulation, plan.simulation_seeds())];
+            if photographed {
+                sides.push((Side::Photographed, plan.photo_seeds()));
+            }
+            for (side, seeds) in sides {
+                for seed in seeds {
+                    out.push(Filling {
+                        kind: shape.kind,
+                        phi0,
+                        seed,
+                        side,
+                        dir: layout.run_dir(shape.kind, phi0, side, seed),
+                        scene: scene.clone(),
+                        scene_toml: scene_toml.clone(),
+                    });
+                }
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// The record of a complete earlier run of the same scene and seed, if there is one. The
+/// scene is compared as the text of `scene.toml` (exact, unlike floats read back from JSON);
+/// a rerun deletes `run.json` before it rewrites `scene.toml`, so an interrupted rerun is
+/// never taken for a finished one.
+pub fn done(filling: &Filling) -> Option<RunRecord> {
+    let scene = std::fs::read_to_string(filling.dir.join("scene.toml")).ok()?;
+    let text = std::fs::read_to_string(filling.dir.join("run.json")).ok()?;
+    let record: RunRecord = serde_json::from_str(&text).ok()?;
+    let complete =
+        scene == filling.scene_toml && record.seed == filling.seed && filling.deposit().exists();
+    complete.then_some(record)
+}
+
+/// Runs every filling not yet done, in parallel (each run is deterministic given its scene
+/// and seed, so the order and the thread count do not change any file).
+pub fn simulate(fillings: &[Filling], bar: &ProgressBar) -> anyhow::Result<Vec<Filled>> {
+    bar.set_length(fillings.len() as u64);
+    let results: Vec<anyhow::Result<Filled>> = fillings
+        .par_iter()
+        .map(|f| {
+            let result = run_one(f);
+            bar.inc(1);
+            result
+        })
+        .collect();
+    results.into_iter().collect()
+}
+
+fn run_one(f: &Filling) -> anyhow::Result<Filled> {
+    if let Some(record) = done(f) {
+        return Ok(Filled {
+            filling: f.clone(),
+            record,
+            reused: true,
+        });
+    }
+    write_scene(&f.dir, &f.scene_toml)?;
+    let record = fill(&f.scene, f.seed, &f.dir, &mut |_| {}).with_context(|| {
+        format!(
+            "filling {} phi0 = {} seed {} ({})",
+            f.kind.name(),
+            f.phi0,
+            f.seed,
+            f.dir.display()
+        )
+    })?;
+    Ok(Filled {
+        filling: f.clone(),
+        record,
+        reused: false,
+    })
+}
+
+/// `scene.toml` beside the run: `facets sim scene.toml --seed N` runs it again.
+fn write_scene(dir: &Path, text: &str) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let stale = dir.join("run.json");
+    if stale.exists() {
+        std::fs::remove_file(&stale)
+            .with_context(|| format!("cannot remove the stale {}", stale.display()))?;
+    }
+    write_atomic(&dir.join("scene.toml"), |w| {
+        use std::io::Write;
+        Ok(w.write_all(text.as_bytes())?)
+    })
+}
