@@ -128,9 +128,7 @@ fn side(
             let contacts = contacts_path(Path::new(name));
             (
                 name.clone(),
-                contacts
-                    .exists()
-                    .then(|| contacts.display().to_string()),
+                contacts.exists().then(|| contacts.display().to_string()),
             )
         })
         .collect();

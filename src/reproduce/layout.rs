@@ -54,13 +54,11 @@ impl Layout {
     }
 
     pub fn analysis_dir(&self, kind: GrainKindName, experiment: bool) -> PathBuf {
-        self.shape_dir(kind)
-            .join("analysis")
-            .join(if experiment {
-                "experiment"
-            } else {
-                "simulation"
-            })
+        self.shape_dir(kind).join("analysis").join(if experiment {
+            "experiment"
+        } else {
+            "simulation"
+        })
     }
 
     pub fn figures_dir(&self, kind: GrainKindName) -> PathBuf {

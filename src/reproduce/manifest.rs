@@ -71,13 +71,23 @@ pub fn read_manifest(dir: &Path) -> anyhow::Result<Vec<Photo>> {
 }
 
 fn read_csv(dir: &Path, path: &Path) -> anyhow::Result<Vec<Photo>> {
-    let file = std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-    let mut reader = csv::ReaderBuilder::new().trim(csv::Trim::All).from_reader(file);
+    let file =
+        std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+    let mut reader = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(file);
     let headers = reader
         .headers()
         .with_context(|| format!("{}:1: cannot read the header", path.display()))?
         .clone();
-    let known = ["file", "shape", "phi0", "px_per_mm", "silo_width_mm", "frame_y_mm"];
+    let known = [
+        "file",
+        "shape",
+        "phi0",
+        "px_per_mm",
+        "silo_width_mm",
+        "frame_y_mm",
+    ];
     for h in &headers {
         if !known.contains(&h) {
             bail!(
@@ -116,7 +126,8 @@ fn read_csv(dir: &Path, path: &Path) -> anyhow::Result<Vec<Photo>> {
                 .transpose()
         };
         let need = |name: &str| -> anyhow::Result<f64> {
-            number(name)?.with_context(|| format!("{}:{line}: field `{name}` is empty", path.display()))
+            number(name)?
+                .with_context(|| format!("{}:{line}: field `{name}` is empty", path.display()))
         };
         let entry = Entry {
             file: at("file")
@@ -173,7 +184,10 @@ fn check(dir: &Path, e: &Entry) -> anyhow::Result<Photo> {
         )
     })?;
     if !(e.phi0.is_finite() && e.phi0 > 0.0 && e.phi0 < 1.0) {
-        bail!("field `phi0`: {} is not a volume fraction in (0, 1)", e.phi0);
+        bail!(
+            "field `phi0`: {} is not a volume fraction in (0, 1)",
+            e.phi0
+        );
     }
     if !(e.px_per_mm.is_finite() && e.px_per_mm > 0.0) {
         bail!("field `px_per_mm`: {} is not a positive scale", e.px_per_mm);

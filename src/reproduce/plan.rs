@@ -150,7 +150,7 @@ impl Plan {
             photo_style: "lab".into(),
             rdf_margin_over_d: 1.1,
             w_scan_over_d: vec![1.0, 2.0],
-            max_relaxation_time_s: 2.0,
+            max_relaxation_time_s: 1.0,
         }
     }
 

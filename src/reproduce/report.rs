@@ -85,12 +85,11 @@ pub struct Report {
 
 fn numbers(e: &EnsembleSummary) -> SideNumbers {
     let o = &e.orientation;
-    let peak = o
-        .f
-        .iter()
-        .enumerate()
-        .max_by(|a, b| a.1.total_cmp(b.1))
-        .map_or(f64::NAN, |(k, _)| o.theta[k].to_degrees());
+    let peak =
+        o.f.iter()
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(b.1))
+            .map_or(f64::NAN, |(k, _)| o.theta[k].to_degrees());
     let janssen = e.pressure.as_ref().and_then(|p| p.janssen);
     SideNumbers {
         realisations: e.n_realisations,
@@ -282,7 +281,9 @@ fn markdown(r: &Report) -> String {
             .shapes
             .iter()
             .find(|x| x.kind == shape.shape)
-            .map_or(String::new(), |x| format!(", {} grains per filling", x.grains));
+            .map_or(String::new(), |x| {
+                format!(", {} grains per filling", x.grains)
+            });
         let _ = writeln!(s, "## {}{grains}\n", shape.shape.name());
         for row in &shape.rows {
             let _ = writeln!(s, "### phi0 = {:.3}\n", row.phi0);
@@ -308,7 +309,9 @@ fn markdown(r: &Report) -> String {
                 .chain(row.experiment.iter())
                 .any(|n| n.s2.is_some())
             {
-                line(&mut s, "S2", &|n| n.s2.as_ref().map_or("—".into(), |m| pm(m, 3)));
+                line(&mut s, "S2", &|n| {
+                    n.s2.as_ref().map_or("—".into(), |m| pm(m, 3))
+                });
             }
             line(&mut s, "S4", &|n| pm(&n.s4, 3));
             // The fit searches lambda up to 100 W: there, the profile is still straight (a
