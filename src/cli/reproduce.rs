@@ -20,15 +20,19 @@ use facets::reproduce::{Plan, reproduce};
 #[command(verbatim_doc_comment)]
 pub struct Args {
     /// Small silos and ensembles on built-in defaults (the default): minutes on 2 cores.
-    #[arg(long, conflicts_with_all = ["paper", "tiny"])]
+    #[arg(long, conflicts_with_all = ["paper", "tiny", "plan"])]
     pub quick: bool,
     /// Paper-scale ensembles (256 mm silo; 3000 squares, 9000 short rods, 5000 long rods;
     /// 8 realisations a side): hours. Stop and restart at will.
-    #[arg(long, conflicts_with = "tiny")]
+    #[arg(long, conflicts_with_all = ["tiny", "plan"])]
     pub paper: bool,
     /// The end-to-end test's configuration (a 120 mm silo, tens of grains).
-    #[arg(long, hide = true)]
+    #[arg(long, hide = true, conflicts_with = "plan")]
     pub tiny: bool,
+    /// A plan of your own: the plan.json an earlier run wrote, edited (silo width, grain
+    /// counts, phi0 values, realisations, photograph scale and style, g(r) margin, w scan).
+    #[arg(long, value_name = "FILE")]
+    pub plan: Option<PathBuf>,
     /// Real photographs as the experiment side: a folder with manifest.csv (columns
     /// file,shape,phi0,px_per_mm[,silo_width_mm,frame_y_mm]) or manifest.toml ([[photo]]
     /// tables with the same keys). shape: square, rod53 or rod3; frame_y_mm: height of the
@@ -42,7 +46,9 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let plan = if args.paper {
+    let plan = if let Some(path) = &args.plan {
+        Plan::load(path)?
+    } else if args.paper {
         Plan::paper()
     } else if args.tiny {
         Plan::tiny()

@@ -13,6 +13,7 @@ pub const PHOTO_SEED_OFFSET: u64 = 1_000_000;
 
 /// One grain shape of the study.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct ShapePlan {
     pub kind: GrainKindName,
     /// Grains poured per filling.
@@ -59,6 +60,7 @@ impl GrainKindName {
 
 /// Everything a reproduction run needs to know.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Plan {
     /// "quick", "paper" or "tiny".
     pub name: String,
@@ -152,6 +154,18 @@ impl Plan {
             w_scan_over_d: vec![1.0, 2.0],
             max_relaxation_time_s: 1.0,
         }
+    }
+
+    /// Reads a plan written as JSON (the `plan.json` of an earlier run, edited); errors name
+    /// the file, line and column (serde_json's message carries the position).
+    pub fn load(path: &std::path::Path) -> anyhow::Result<Plan> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| anyhow::anyhow!("cannot read plan {}: {e}", path.display()))?;
+        let plan: Plan =
+            serde_json::from_str(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        plan.validate()
+            .map_err(|e| anyhow::anyhow!("{}: {e:#}", path.display()))?;
+        Ok(plan)
     }
 
     /// Refuses a plan whose sizes cannot give the report, naming the field.
@@ -270,6 +284,24 @@ mod tests {
         let counts: Vec<usize> = paper.shapes.iter().map(|s| s.grains).collect();
         assert_eq!(counts, [3000, 9000, 5000]);
         assert!(paper.simulation_realisations >= 8);
+    }
+
+    #[test]
+    fn a_written_plan_reads_back_and_a_bad_field_is_named() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("plan.json");
+        let plan = Plan::quick();
+        std::fs::write(&path, serde_json::to_string_pretty(&plan).unwrap()).unwrap();
+        assert_eq!(Plan::load(&path).unwrap(), plan);
+        let text = serde_json::to_string_pretty(&plan)
+            .unwrap()
+            .replace("\"photo_px_per_mm\"", "\"photo_px\"");
+        std::fs::write(&path, text).unwrap();
+        let e = format!("{:#}", Plan::load(&path).unwrap_err());
+        assert!(
+            e.contains("plan.json") && e.contains("photo_px") && e.contains("line"),
+            "{e}"
+        );
     }
 
     #[test]
