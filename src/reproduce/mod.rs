@@ -20,7 +20,7 @@ pub mod simulate;
 use std::path::Path;
 use std::time::Instant;
 
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 
 pub use plan::{Plan, ShapePlan};
 pub use report::Report;
@@ -63,10 +63,11 @@ pub fn reproduce(plan: &Plan, photos: Option<&Path>, out: &Path) -> anyhow::Resu
     };
 
     let start = Instant::now();
-    let bar = stage_bar("simulate");
+    let bars = MultiProgress::new();
+    let bar = bars.add(stage_bar("simulate"));
     bar.set_message("fillings");
     let fillings = simulate::fillings(plan, &layout, real.is_none())?;
-    let filled = simulate::simulate(&fillings, &bar)?;
+    let filled = simulate::simulate(&fillings, &bars, &bar)?;
     bar.finish();
     timed("simulate", start);
 

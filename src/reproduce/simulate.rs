@@ -5,12 +5,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use indicatif::ProgressBar;
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use rayon::prelude::*;
 
 use super::layout::Layout;
 use super::plan::{GrainKindName, Plan};
-use crate::fill::{RunRecord, fill};
+use crate::fill::{FillProgress, RunRecord, fill};
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
@@ -93,13 +93,27 @@ pub fn done(filling: &Filling) -> Option<RunRecord> {
 }
 
 /// Runs every filling not yet done, in parallel (each run is deterministic given its scene
-/// and seed, so the order and the thread count do not change any file).
-pub fn simulate(fillings: &[Filling], bar: &ProgressBar) -> anyhow::Result<Vec<Filled>> {
+/// and seed, so the order and the thread count do not change any file). `bar` counts
+/// fillings; each running filling shows its own bar of simulated time under it.
+pub fn simulate(
+    fillings: &[Filling],
+    bars: &MultiProgress,
+    bar: &ProgressBar,
+) -> anyhow::Result<Vec<Filled>> {
     bar.set_length(fillings.len() as u64);
+    let style = ProgressStyle::with_template(
+        "{prefix:>30} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar())
+    .progress_chars("=> ");
     let results: Vec<anyhow::Result<Filled>> = fillings
         .par_iter()
         .map(|f| {
-            let result = run_one(f);
+            let own = bars.add(ProgressBar::new(1).with_style(style.clone()));
+            own.set_prefix(format!("{} phi0 {} seed {}", f.kind.name(), f.phi0, f.seed));
+            let result = run_one(f, &own);
+            own.finish_and_clear();
+            bars.remove(&own);
             bar.inc(1);
             result
         })
@@ -107,7 +121,7 @@ pub fn simulate(fillings: &[Filling], bar: &ProgressBar) -> anyhow::Result<Vec<F
     results.into_iter().collect()
 }
 
-fn run_one(f: &Filling) -> anyhow::Result<Filled> {
+fn run_one(f: &Filling, bar: &ProgressBar) -> anyhow::Result<Filled> {
     if let Some(record) = done(f) {
         return Ok(Filled {
             filling: f.clone(),
@@ -116,7 +130,16 @@ fn run_one(f: &Filling) -> anyhow::Result<Filled> {
         });
     }
     write_scene(&f.dir, &f.scene_toml)?;
-    let record = fill(&f.scene, f.seed, &f.dir, &mut |_| {}).with_context(|| {
+    let mut update = |p: FillProgress| {
+        bar.set_length((p.expected_end.max(p.time) * 1e3) as u64);
+        bar.set_position((p.time * 1e3) as u64);
+        bar.set_message(if p.relaxing {
+            format!("relaxing, kinetic/elastic {:.1e}", p.energy_ratio)
+        } else {
+            format!("{}/{} grains in", p.inserted, p.total)
+        });
+    };
+    let record = fill(&f.scene, f.seed, &f.dir, &mut update).with_context(|| {
         format!(
             "filling {} phi0 = {} seed {} ({})",
             f.kind.name(),
