@@ -88,10 +88,11 @@ pub struct Plan {
 }
 
 impl Plan {
-    /// `facets reproduce --quick`: the README's main job, small silos and ensembles. Sizes
-    /// chosen for the fill speed of 2026-11-23 (about 0.2 CPU s per grain for squares, twice
-    /// that for short rods, whose time step is half): a 160 mm silo (an 80 mm analysed strip),
-    /// two phi0 a shape, two simulated and one photographed filling each.
+    /// `facets reproduce --quick`: the README's main job, small silos and ensembles: a 160 mm
+    /// silo (an 80 mm analysed strip), two phi0 a shape, two simulated and one photographed
+    /// filling each. Sized for the fill speed of 2026-11-23 (0.15-0.5 CPU s per grain, most
+    /// of it relaxation; short rods cost twice as much, their time step being half): raise the
+    /// counts as fills get faster.
     pub fn quick() -> Plan {
         Plan {
             name: "quick".into(),
