@@ -138,8 +138,11 @@ fn check_report(out: &Path) -> Value {
             // Dense random packings of these grains: 0.5-0.9 (the frame includes the ragged
             // free surface, which lowers it).
             mean_in(&n["phi_f"], 0.4, 0.95, &what("phi_f"));
-            // A contact peak: grains touch, so g(D) is above the ideal gas's 1.
-            mean_in(&n["g_at_1"], 1.0, 50.0, &what("g(1)"));
+            // Grains touch: some pairs sit at r = D, so g(1) > 0 (it is 0 when r is not in
+            // units of D); 50 would mean every centre had ~8 neighbours in the 0.1 D bin. Above
+            // 1 on average, but one photograph has ~20 centres: no tighter bound is safe.
+            let g1 = mean_in(&n["g_at_1"], 0.0, 50.0, &what("g(1)"));
+            assert!(g1 > 0.0, "{}", what("g(1) = 0"));
             let peak = number(&n["peak_angle_deg"], &what("peak angle"));
             assert!((0.0..period).contains(&peak), "{}", what("peak angle"));
             mean_in(&n["s4"], 0.0, 1.0, &what("S4"));
