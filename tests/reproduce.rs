@@ -140,9 +140,11 @@ fn check_report(out: &Path) -> Value {
             mean_in(&n["phi_f"], 0.4, 0.95, &what("phi_f"));
             // Grains touch: some pairs sit at r = D, so g(1) > 0 (it is 0 when r is not in
             // units of D); 50 would mean every centre had ~8 neighbours in the 0.1 D bin. Above
-            // 1 on average, but one photograph has ~20 centres: no tighter bound is safe.
+            // 1 on average, but a tiny deposit has ~20 centres: no tighter bound is safe.
             let g1 = mean_in(&n["g_at_1"], 0.0, 50.0, &what("g(1)"));
-            assert!(g1 > 0.0, "{}", what("g(1) = 0"));
+            // Detected centres are off by ~0.1 D for rods, enough to move a pair out of the
+            // 0.1 D bin: only the simulated side must show contacts.
+            assert!(side == "experiment" || g1 > 0.0, "{}", what("g(1) = 0"));
             let peak = number(&n["peak_angle_deg"], &what("peak angle"));
             assert!((0.0..period).contains(&peak), "{}", what("peak angle"));
             mean_in(&n["s4"], 0.0, 1.0, &what("S4"));

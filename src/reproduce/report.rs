@@ -29,6 +29,8 @@ pub struct SideNumbers {
     /// Janssen fit of the pressure profile (simulated deposits: photographs have no forces).
     pub lambda_over_w: Option<f64>,
     pub p_sat_n_per_m: Option<f64>,
+    /// Deepest h / W the Janssen fit used: a fit to depths below lambda cannot tell lambda.
+    pub janssen_depth_over_w: Option<f64>,
 }
 
 /// The detector against the truth on the photographs of one (shape, phi0).
@@ -100,6 +102,7 @@ fn numbers(e: &EnsembleSummary) -> SideNumbers {
         s4: o.s4,
         lambda_over_w: janssen.map(|j| j.lambda_over_w),
         p_sat_n_per_m: janssen.map(|j| j.p_sat),
+        janssen_depth_over_w: janssen.map(|j| j.h_over_w_max),
     }
 }
 
@@ -274,7 +277,9 @@ fn markdown(r: &Report) -> String {
         s,
         "Values are ensemble means ± standard errors over realisations (± 0 with one). \
          lambda/W and P_sat come from the Janssen fit of -sigma_yy on the centre line (N/m, 2D \
-         stress: divide by the plate gap for Pa); photographs carry no forces.\n"
+         stress: divide by the plate gap for Pa); photographs carry no forces. The fit is \
+         meaningful only when the deposit is deeper than lambda (of order W): small silos' \
+         shallow deposits give fits to a few h/W tenths, shown beside lambda / W.\n"
     );
     for shape in &r.shapes {
         let grains = p
@@ -316,10 +321,17 @@ fn markdown(r: &Report) -> String {
             line(&mut s, "S4", &|n| pm(&n.s4, 3));
             // The fit searches lambda up to 100 W: there, the profile is still straight (a
             // deposit shallower than lambda) and P_sat is only the slope times 100 W.
-            line(&mut s, "lambda / W", &|n| match n.lambda_over_w {
-                Some(l) if l >= JANSSEN_BOUND => "≥ 100 (no saturation in this depth)".into(),
-                l => num(l, 2),
-            });
+            line(
+                &mut s,
+                "lambda / W",
+                &|n| match (n.lambda_over_w, n.janssen_depth_over_w) {
+                    (Some(l), _) if l >= JANSSEN_BOUND => {
+                        "≥ 100 (no saturation in this depth)".into()
+                    }
+                    (Some(l), Some(h)) => format!("{l:.2} (fitted to h/W ≤ {h:.2})"),
+                    (l, _) => num(l, 2),
+                },
+            );
             line(&mut s, "P_sat (N/m)", &|n| match n.lambda_over_w {
                 Some(l) if l >= JANSSEN_BOUND => "— (not saturated)".into(),
                 _ => num(n.p_sat_n_per_m, 3),
