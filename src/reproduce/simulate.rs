@@ -7,9 +7,11 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 use rayon::prelude::*;
+use serde::Deserialize;
 
 use super::layout::Layout;
 use super::plan::{GrainKindName, Plan};
+use crate::deposit::FrameMm;
 use crate::fill::{FillProgress, RunRecord, fill};
 use crate::io::write_atomic;
 use crate::scene::Scene;
@@ -40,11 +42,31 @@ impl Filling {
     }
 }
 
+/// What the later stages need of a run's `run.json`. Read as its own struct, not as the
+/// whole `RunRecord`: JSON writes the record's NaN fields (a feed rate measured on fewer than
+/// two bands) as null, which do not read back as f64.
+#[derive(Clone, Debug, Deserialize)]
+pub struct RunSummary {
+    pub seed: u64,
+    pub relaxed: bool,
+    pub frame_mm: Option<FrameMm>,
+}
+
+impl From<&RunRecord> for RunSummary {
+    fn from(r: &RunRecord) -> Self {
+        RunSummary {
+            seed: r.seed,
+            relaxed: r.relaxed,
+            frame_mm: r.frame_mm,
+        }
+    }
+}
+
 /// A finished filling and what it recorded.
 #[derive(Clone, Debug)]
 pub struct Filled {
     pub filling: Filling,
-    pub record: RunRecord,
+    pub record: RunSummary,
     /// True when the run was found done and not run again.
     pub reused: bool,
 }
@@ -83,10 +105,10 @@ pub fn fillings(plan: &Plan, layout: &Layout, photographed: bool) -> anyhow::Res
 /// scene is compared as the text of `scene.toml` (exact, unlike floats read back from JSON);
 /// a rerun deletes `run.json` before it rewrites `scene.toml`, so an interrupted rerun is
 /// never taken for a finished one.
-pub fn done(filling: &Filling) -> Option<RunRecord> {
+pub fn done(filling: &Filling) -> Option<RunSummary> {
     let scene = std::fs::read_to_string(filling.dir.join("scene.toml")).ok()?;
     let text = std::fs::read_to_string(filling.dir.join("run.json")).ok()?;
-    let record: RunRecord = serde_json::from_str(&text).ok()?;
+    let record: RunSummary = serde_json::from_str(&text).ok()?;
     let complete =
         scene == filling.scene_toml && record.seed == filling.seed && filling.deposit().exists();
     complete.then_some(record)
@@ -150,7 +172,7 @@ fn run_one(f: &Filling, bar: &ProgressBar) -> anyhow::Result<Filled> {
     })?;
     Ok(Filled {
         filling: f.clone(),
-        record,
+        record: RunSummary::from(&record),
         reused: false,
     })
 }
@@ -167,4 +189,34 @@ fn write_scene(dir: &Path, text: &str) -> anyhow::Result<()> {
         use std::io::Write;
         Ok(w.write_all(text.as_bytes())?)
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::reproduce::plan::Plan;
+
+    #[test]
+    fn a_finished_run_is_found_done_even_with_null_fields_and_a_changed_scene_is_not() {
+        let dir = tempfile::tempdir().unwrap();
+        let plan = Plan::tiny();
+        let layout = Layout::new(dir.path());
+        let f = fillings(&plan, &layout, true).unwrap().remove(0);
+        std::fs::create_dir_all(&f.dir).unwrap();
+        std::fs::write(f.dir.join("scene.toml"), &f.scene_toml).unwrap();
+        std::fs::write(f.deposit(), "x_mm,y_mm,theta_rad,length_mm,width_mm\n").unwrap();
+        // As fill writes it: a feed rate measured on fewer than two bands is NaN -> null.
+        let run = format!(
+            r#"{{"seed": {}, "relaxed": false, "feed_rate_measured_per_s": null,
+                "frame_mm": {{"x_min": 0, "x_max": 120, "y_min": 0, "y_max": 40}}}}"#,
+            f.seed
+        );
+        std::fs::write(f.dir.join("run.json"), run).unwrap();
+        let found = done(&f).expect("the run is complete");
+        assert!(!found.relaxed);
+        assert_eq!(found.frame_mm.unwrap().x_max, 120.0);
+        // Another scene in the same folder (a plan edited between runs) is run again.
+        std::fs::write(f.dir.join("scene.toml"), f.scene_toml.replace("60", "61")).unwrap();
+        assert!(done(&f).is_none());
+    }
 }
