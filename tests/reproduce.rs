@@ -146,7 +146,11 @@ fn check_report(out: &Path) -> Value {
             // 0.1 D bin: only the simulated side must show contacts.
             assert!(side == "experiment" || g1 > 0.0, "{}", what("g(1) = 0"));
             let peak = number(&n["peak_angle_deg"], &what("peak angle"));
-            assert!((0.0..period).contains(&peak), "{}", what("peak angle"));
+            assert!(
+                (-0.5 * period..0.5 * period).contains(&peak),
+                "{}",
+                what("peak angle")
+            );
             mean_in(&n["s4"], 0.0, 1.0, &what("S4"));
             if square {
                 assert!(n["s2"].is_null(), "S2 means nothing for squares");

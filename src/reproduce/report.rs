@@ -21,7 +21,7 @@ pub struct SideNumbers {
     pub realisations: usize,
     pub phi_f: MeanErr,
     pub g_at_1: MeanErr,
-    /// Bin centre of the largest f(theta) (degrees, folded).
+    /// Bin centre of the largest f(theta) (degrees, in [-period/2, period/2): 0 is flat).
     pub peak_angle_deg: f64,
     /// Rods only.
     pub s2: Option<MeanErr>,
@@ -91,7 +91,11 @@ fn numbers(e: &EnsembleSummary) -> SideNumbers {
         o.f.iter()
             .enumerate()
             .max_by(|a, b| a.1.total_cmp(b.1))
-            .map_or(f64::NAN, |(k, _)| o.theta[k].to_degrees());
+            .map_or(f64::NAN, |(k, _)| {
+                // Folded to [-period/2, period/2): a peak at 177.5 deg is the 2.5 deg below 0.
+                let t = o.theta[k];
+                if t >= 0.5 * o.period { t - o.period } else { t }.to_degrees()
+            });
     let janssen = e.pressure.as_ref().and_then(|p| p.janssen);
     SideNumbers {
         realisations: e.n_realisations,
@@ -305,7 +309,7 @@ fn markdown(r: &Report) -> String {
             line(&mut s, "realisations", &|n| n.realisations.to_string());
             line(&mut s, "phi_f", &|n| pm(&n.phi_f, 3));
             line(&mut s, "g(1)", &|n| pm(&n.g_at_1, 2));
-            line(&mut s, "peak of f(theta) (deg)", &|n| {
+            line(&mut s, "peak of f(theta) (deg from horizontal)", &|n| {
                 num(Some(n.peak_angle_deg), 1)
             });
             if row
