@@ -14,4 +14,5 @@ pub mod impact;
 pub mod io;
 pub mod photo;
 pub mod plot;
+pub mod reproduce;
 pub mod scene;

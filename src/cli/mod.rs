@@ -7,6 +7,7 @@ mod detect;
 mod drop;
 mod progress;
 mod render;
+mod reproduce;
 mod sim;
 
 use clap::{Parser, Subcommand};
@@ -35,6 +36,7 @@ pub enum Command {
     /// Render a synthetic backlit photograph of a deposit table (or of a generated dense
     /// packing), with its ground-truth table beside it.
     Render(render::Args),
+    Reproduce(reproduce::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -48,6 +50,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Detect(args) => detect::run(args),
         Command::Sim(args) => sim::run(args),
         Command::Render(args) => render::run(args),
+        Command::Reproduce(args) => reproduce::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

@@ -1,0 +1,142 @@
+//! Stage 4: the same analysis on both sides (`analysis::summary::analyse`, as `facets analyse`),
+//! per shape, then both on the same axes (as `facets compare`): f(theta), g(r), g(1) and phi_f
+//! against phi0, the w scan, pressure profiles and a deposit picture per side and phi0.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::Context;
+use indicatif::ProgressBar;
+
+use super::detect::Detected;
+use super::layout::Layout;
+use super::plan::{GrainKindName, Plan, ShapePlan};
+use super::simulate::{Filled, Side};
+use crate::analysis::compare::{Comparison, compare};
+use crate::analysis::rdf::RdfInput;
+use crate::analysis::summary::{AnalysisParameters, Summary, analyse};
+use crate::deposit::{Ensemble, LoadOptions, Realisation, contacts_path, load_realisation};
+use crate::io::write_atomic;
+use crate::plot::write_figures;
+
+/// Both sides of one shape, measured.
+#[derive(Clone, Debug)]
+pub struct ShapeAnalysis {
+    pub kind: GrainKindName,
+    pub simulation: Option<Summary>,
+    pub experiment: Option<Summary>,
+    pub comparison: Option<Comparison>,
+    /// PNG figures, both sides overlaid.
+    pub figures: Vec<PathBuf>,
+}
+
+/// The analysis parameters of a plan for one shape.
+pub fn parameters(plan: &Plan, shape: Option<&ShapePlan>) -> AnalysisParameters {
+    AnalysisParameters {
+        rdf: RdfInput {
+            r_max: plan.rdf_margin_over_d,
+            margin: plan.rdf_margin_over_d,
+            ..RdfInput::default()
+        },
+        w_over_d: shape.map(|s| s.w_over_d),
+        w_scan_over_d: plan.w_scan_over_d.clone(),
+        ..AnalysisParameters::default()
+    }
+}
+
+/// Analyses every shape that has deposits on either side.
+pub fn analyse_all(
+    plan: &Plan,
+    layout: &Layout,
+    filled: &[Filled],
+    detected: &[Detected],
+    bar: &ProgressBar,
+) -> anyhow::Result<Vec<ShapeAnalysis>> {
+    let mut kinds: Vec<GrainKindName> = plan.shapes.iter().map(|s| s.kind).collect();
+    for d in detected {
+        if !kinds.contains(&d.kind) {
+            kinds.push(d.kind);
+        }
+    }
+    bar.set_length(kinds.len() as u64);
+    let mut out = Vec::new();
+    for kind in kinds {
+        bar.set_message(kind.name());
+        let shape = plan.shapes.iter().find(|s| s.kind == kind);
+        let params = parameters(plan, shape);
+        let sim_tables: Vec<PathBuf> = filled
+            .iter()
+            .filter(|f| f.filling.kind == kind && f.filling.side == Side::Simulation)
+            .map(|f| f.filling.deposit())
+            .collect();
+        let exp_tables: Vec<PathBuf> = detected
+            .iter()
+            .filter(|d| d.kind == kind)
+            .map(|d| d.table.clone())
+            .collect();
+        let simulation = side(&sim_tables, &params, &layout.analysis_dir(kind, false))?;
+        let experiment = side(&exp_tables, &params, &layout.analysis_dir(kind, true))?;
+        let figures_dir = layout.figures_dir(kind);
+        std::fs::create_dir_all(&figures_dir)
+            .with_context(|| format!("cannot create {}", figures_dir.display()))?;
+        let comparison = match (&experiment, &simulation) {
+            (Some(e), Some(s)) => {
+                let c = compare(e, s)?;
+                write_atomic(&figures_dir.join("comparison.json"), |w| {
+                    serde_json::to_writer_pretty(&mut *w, &c)?;
+                    Ok(())
+                })?;
+                Some(c)
+            }
+            _ => None,
+        };
+        let summaries: Vec<&Summary> = experiment.iter().chain(simulation.iter()).collect();
+        let figures = if summaries.is_empty() {
+            Vec::new()
+        } else {
+            write_figures(&figures_dir, &summaries)?
+        };
+        out.push(ShapeAnalysis {
+            kind,
+            simulation,
+            experiment,
+            comparison,
+            figures,
+        });
+        bar.inc(1);
+    }
+    Ok(out)
+}
+
+/// One side's ensembles analysed, summary.json written; None without deposits.
+fn side(
+    tables: &[PathBuf],
+    params: &AnalysisParameters,
+    dir: &Path,
+) -> anyhow::Result<Option<Summary>> {
+    if tables.is_empty() {
+        return Ok(None);
+    }
+    let realisations: Vec<Realisation> = tables
+        .iter()
+        .map(|t| load_realisation(t, &LoadOptions::default()))
+        .collect::<anyhow::Result<_>>()?;
+    let ensembles = Ensemble::group_by_phi0(realisations)?;
+    let examples: Vec<(String, Option<String>)> = ensembles
+        .iter()
+        .map(|e| {
+            let name = &e.realisations[0].name;
+            let contacts = contacts_path(Path::new(name));
+            (
+                name.clone(),
+                contacts.exists().then(|| contacts.display().to_string()),
+            )
+        })
+        .collect();
+    let summary = analyse(&ensembles, &examples, params, &|_| {})?;
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    write_atomic(&dir.join("summary.json"), |w| {
+        serde_json::to_writer_pretty(&mut *w, &summary)?;
+        Ok(())
+    })?;
+    Ok(Some(summary))
+}

@@ -1,0 +1,206 @@
+//! Stage 3: the detector on every photograph of the experiment side. Each table is written in
+//! the silo's coordinates (the photograph's origin added) with a sidecar giving the silo
+//! width, phi0 and the photographed frame, so the analysis reads it like any deposit. Where a
+//! truth table exists, detections are matched to it (`vision::evaluate`, gate D/2) and pooled
+//! per (shape, phi0). A table that exists is not detected again; the score is always
+//! recomputed from the files.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::Context;
+use indicatif::ProgressBar;
+use rayon::prelude::*;
+use vision::evaluate::{Tally, Truth, score};
+use vision::overlay::draw_outlines;
+use vision::{DetectParams, Detection, detect};
+
+use super::layout::Layout;
+use super::photograph::Photo;
+use super::plan::GrainKindName;
+use crate::deposit::{
+    Deposit, DepositMeta, FrameMm, Source, meta_path, read_deposit_csv, write_deposit_csv,
+    write_meta_json,
+};
+use crate::detection::{grain_shape, read_photo, to_deposit};
+use crate::grains::GrainKind;
+use crate::io::write_atomic;
+use crate::photo::outline_of;
+
+/// A detected table of one photograph.
+#[derive(Clone, Debug)]
+pub struct Detected {
+    pub kind: GrainKindName,
+    pub phi0: f64,
+    pub photo: PathBuf,
+    pub table: PathBuf,
+    pub overlay: Option<PathBuf>,
+    /// Matching against the truth, when there is one.
+    pub tally: Option<Tally>,
+    /// Detector wall time (s); None when the table was found done.
+    pub seconds: Option<f64>,
+    pub grains: usize,
+}
+
+/// The detector's outline for a grain kind (the experiment's nuts and rods).
+pub fn shape_of(kind: GrainKindName) -> anyhow::Result<vision::GrainShape> {
+    let k = GrainKind::from(kind);
+    grain_shape(kind == GrainKindName::Square, k.length() / k.width())
+}
+
+/// Detects every photograph (in parallel) and scores those with a truth table.
+pub fn detect_all(
+    photos: &[Photo],
+    layout: &Layout,
+    bar: &ProgressBar,
+) -> anyhow::Result<Vec<Detected>> {
+    bar.set_length(photos.len() as u64);
+    // The first photograph of each (shape, phi0) also gets an overlay for the report.
+    let first: Vec<bool> = photos
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            !photos[..k]
+                .iter()
+                .any(|q| q.kind == p.kind && (q.phi0 - p.phi0).abs() < 1e-9)
+        })
+        .collect();
+    let results: Vec<anyhow::Result<Detected>> = photos
+        .par_iter()
+        .zip(first)
+        .map(|(p, overlay)| {
+            let r = detect_one(p, layout, overlay)
+                .with_context(|| format!("photograph {}", p.path.display()));
+            bar.inc(1);
+            r
+        })
+        .collect();
+    results.into_iter().collect()
+}
+
+fn detect_one(photo: &Photo, layout: &Layout, want_overlay: bool) -> anyhow::Result<Detected> {
+    let dir = layout.detected_dir(photo.kind, photo.phi0);
+    std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let stem = photo
+        .path
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("photo")
+        .to_string();
+    let table = dir.join(format!("{stem}.csv"));
+    let overlay_path = dir.join(format!("{stem}_overlay.png"));
+    let scale = photo.px_per_mm * 1e3;
+    let mut seconds = None;
+    if !(table.exists() && meta_path(&table).exists()) {
+        let params = DetectParams::new(shape_of(photo.kind)?, scale);
+        let image = read_photo(&photo.path, params.max_pixels)?;
+        let start = Instant::now();
+        let found = detect(&image, &params)?;
+        seconds = Some(start.elapsed().as_secs_f64());
+        if want_overlay {
+            let drawn = draw_outlines(&image, &found, scale);
+            write_atomic(&overlay_path, |w| {
+                drawn.write_to(w, image::ImageFormat::Png)?;
+                Ok(())
+            })?;
+        }
+        let frame_mm = FrameMm {
+            x_min: photo.origin_mm[0],
+            x_max: photo.origin_mm[0] + image.width() as f64 / photo.px_per_mm,
+            y_min: photo.origin_mm[1],
+            y_max: photo.origin_mm[1] + image.height() as f64 / photo.px_per_mm,
+        };
+        let meta = DepositMeta {
+            silo_width_mm: photo.silo_width_mm,
+            phi0: photo.phi0,
+            frame_mm: Some(frame_mm),
+            areal_density_kg_m2: None,
+            gravity_m_s2: None,
+            source: Source::Experiment,
+        };
+        // Table first, sidecar last: the sidecar marks the pair complete.
+        write_deposit_csv(&table, &shifted(&to_deposit(&found), photo.origin_mm, 1.0))?;
+        write_meta_json(&meta_path(&table), &meta)?;
+    }
+    let deposit = read_deposit_csv(&table)?;
+    let tally = match &photo.truth {
+        Some(truth) => Some(score_table(&deposit, photo.origin_mm, truth)?),
+        None => None,
+    };
+    Ok(Detected {
+        kind: photo.kind,
+        phi0: photo.phi0,
+        photo: photo.path.clone(),
+        table,
+        overlay: overlay_path.exists().then_some(overlay_path),
+        tally,
+        seconds,
+        grains: deposit.grains.len(),
+    })
+}
+
+/// The deposit moved by `sign` x the photograph's origin (mm): +1 from frame to silo
+/// coordinates, -1 back.
+fn shifted(deposit: &Deposit, origin_mm: [f64; 2], sign: f64) -> Deposit {
+    let mut out = deposit.clone();
+    for g in &mut out.grains {
+        g.x += sign * origin_mm[0] * 1e-3;
+        g.y += sign * origin_mm[1] * 1e-3;
+    }
+    out
+}
+
+/// Matches a detected table (silo coordinates) to a truth table (frame coordinates).
+fn score_table(detected: &Deposit, origin_mm: [f64; 2], truth: &Path) -> anyhow::Result<Tally> {
+    let truth = read_deposit_csv(truth)?;
+    let truths: Vec<Truth> = truth
+        .grains
+        .iter()
+        .map(|g| Truth {
+            outline: outline_of(g),
+            cut: g.cut,
+        })
+        .collect();
+    let detections: Vec<Detection> = shifted(detected, origin_mm, -1.0)
+        .grains
+        .iter()
+        .map(|g| Detection {
+            outline: outline_of(g),
+            confidence: g.confidence.unwrap_or(1.0),
+            cut: g.cut,
+        })
+        .collect();
+    Ok(score(&truths, &detections))
+}
+
+/// Detector figures of one (shape, phi0), pooled over its photographs.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Accuracy {
+    pub photographs: usize,
+    pub scored: usize,
+    pub tally: Tally,
+    /// Mean detector wall time per photograph detected in this run (s).
+    pub seconds_per_photo: Option<f64>,
+}
+
+pub fn accuracy(detected: &[Detected], kind: GrainKindName, phi0: f64) -> Accuracy {
+    let mine: Vec<&Detected> = detected
+        .iter()
+        .filter(|d| d.kind == kind && (d.phi0 - phi0).abs() < 1e-9)
+        .collect();
+    let mut a = Accuracy {
+        photographs: mine.len(),
+        ..Accuracy::default()
+    };
+    for d in &mine {
+        if let Some(t) = d.tally {
+            a.scored += 1;
+            a.tally += t;
+        }
+    }
+    let times: Vec<f64> = mine.iter().filter_map(|d| d.seconds).collect();
+    if !times.is_empty() {
+        a.seconds_per_photo = Some(times.iter().sum::<f64>() / times.len() as f64);
+    }
+    a
+}
