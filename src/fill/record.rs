@@ -29,12 +29,15 @@ pub struct RunRecord {
     pub energies: EnergiesRecord,
     /// v phi0 W / A (grains per second).
     pub feed_rate_target_per_s: f64,
-    /// Slope of the cumulative count of inserted grains against time (grains per second).
+    /// Slope of the cumulative count of inserted grains against time (grains per second);
+    /// NaN (null in JSON) with fewer than two insertion bands.
+    #[serde(deserialize_with = "nan_if_null")]
     pub feed_rate_measured_per_s: f64,
     pub band_height_mm: f64,
     pub insertion_events: usize,
     /// Packing fraction of the analysed area (frame less 40 mm at each side wall; NaN when
-    /// the silo is too narrow for one).
+    /// the silo is too narrow for one; null in JSON).
+    #[serde(deserialize_with = "nan_if_null")]
     pub packing_fraction: f64,
     /// The frame written to the sidecar.
     pub frame_mm: Option<FrameMm>,
@@ -59,4 +62,29 @@ pub struct EnergiesRecord {
     pub elastic_j: f64,
     pub potential_j: f64,
     pub switching_j: f64,
+}
+
+/// JSON has no NaN: serde_json writes it as null; read null back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_record_with_nan_fields_reads_back() {
+        #[derive(Serialize, Deserialize)]
+        struct Probe {
+            #[serde(deserialize_with = "nan_if_null")]
+            value: f64,
+        }
+        let text = serde_json::to_string(&Probe { value: f64::NAN }).unwrap();
+        assert_eq!(text, r#"{"value":null}"#);
+        let back: Probe = serde_json::from_str(&text).unwrap();
+        assert!(back.value.is_nan());
+        let back: Probe = serde_json::from_str(r#"{"value":0.5}"#).unwrap();
+        assert_eq!(back.value, 0.5);
+    }
 }
