@@ -73,6 +73,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
 
     let residual_step = (0.15 * width).max(f);
     let mut explained = Plane::new(dark.width, dark.height, 0.0);
+    let mut free = dark.clone();
     let mut found: Vec<Found> = Vec::new();
     // Seeds to fit this round: position, offsets to try, first refinement step.
     let mut pending: Vec<Task> = hole_seeds
@@ -85,6 +86,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     // accepted is redone.
     let reach = length.hypot(width) + 2.0;
     let mut coarse_explained = explained.downsample(factor);
+    let mut coarse_free = coarse.clone();
     for round in 0..params.max_rounds.max(1) {
         let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
             list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
@@ -110,14 +112,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         }
         let levels = Levels {
             fine: dark,
-            fine_explained: &explained,
+            fine_free: &free,
             coarse: &coarse,
-            coarse_explained: &coarse_explained,
-            fine_model,
-            coarse_model,
+            coarse_free: &coarse_free,
+            fine_model: &fine_model,
+            coarse_model: &coarse_model,
             factor: f,
             period: params.shape.symmetry_period(),
         };
+        let trace_start = std::time::Instant::now();
         let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
             .enumerate()
@@ -147,7 +150,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             {
                 continue;
             }
-            let now = fine_model.score(ft.pose, dark, Some(&explained));
+            let now = fine_model.score(ft.pose, dark, &free);
             // Fitted without knowing a neighbour accepted this round: if that neighbour
             // takes part of this outline, fit again next round against the updated map.
             if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
@@ -160,13 +163,16 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 failed.push(seed.0);
                 continue;
             }
-            fine_model.paint(ft.pose, &mut explained);
+            fine_model.paint(ft.pose, dark, &mut explained, &mut free);
             this_round.push(centre);
             found.push(Found {
                 pose: ft.pose,
                 corners: fine_model.corners(ft.pose),
                 confidence: now.agreement as f64,
             });
+        }
+        if std::env::var_os("FACETS_DETECT_TRACE").is_some() {
+            eprintln!("round {round}: {} seeds, {} accepted, {:.3} s", pending.len(), this_round.len(), trace_start.elapsed().as_secs_f64());
         }
         if this_round.is_empty() {
             break;
@@ -175,6 +181,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         failed.retain(|s| !taken(*s, reach, &this_round));
         pending = deferred;
         coarse_explained = explained.downsample(factor);
+        coarse_free = free.downsample(factor);
     }
     found
 }

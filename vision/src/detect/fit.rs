@@ -8,11 +8,12 @@ use super::plane::Plane;
 /// The two resolution levels a fit works on.
 pub struct Levels<'a> {
     pub fine: &'a Plane,
-    pub fine_explained: &'a Plane,
+    /// Darkness not yet explained by accepted grains, full resolution.
+    pub fine_free: &'a Plane,
     pub coarse: &'a Plane,
-    pub coarse_explained: &'a Plane,
-    pub fine_model: Model,
-    pub coarse_model: Model,
+    pub coarse_free: &'a Plane,
+    pub fine_model: &'a Model,
+    pub coarse_model: &'a Model,
     /// Downsampling factor between the levels.
     pub factor: f64,
     /// Rotation after which the outline looks the same (radians).
@@ -54,12 +55,12 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
             };
             let sc = levels
                 .coarse_model
-                .score(pose, levels.coarse, Some(levels.coarse_explained));
+                .score(pose, levels.coarse, levels.coarse_free);
             tried.push((sc.total, Pose { x, y, phi }));
         }
     }
     tried.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let distinct = 0.3 * levels.fine_model.half_width as f64;
+    let distinct = 0.3 * levels.fine_model.half_width() as f64;
     let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS);
     for (_, p) in tried {
         let far = finalists.iter().all(|q| {
@@ -84,7 +85,7 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
         };
         levels
             .coarse_model
-            .score(scaled, levels.coarse, Some(levels.coarse_explained))
+            .score(scaled, levels.coarse, levels.coarse_free)
             .total as f64
     };
     let step = position_step.max(f);
@@ -102,7 +103,7 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
     let eval = |p: Pose| {
         levels
             .fine_model
-            .score(p, levels.fine, Some(levels.fine_explained))
+            .score(p, levels.fine, levels.fine_free)
             .total as f64
     };
     let (pose, _) = climb(
@@ -114,7 +115,7 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
     );
     let score = levels
         .fine_model
-        .score(pose, levels.fine, Some(levels.fine_explained));
+        .score(pose, levels.fine, levels.fine_free);
     Fitted { pose, score }
 }
 
