@@ -10,6 +10,7 @@ use super::fit::{self, Levels};
 use super::model::{Model, Pose};
 use super::plane::Plane;
 use super::seeds::{self, BrightBlob};
+use super::ridges;
 use crate::GrainShape;
 
 /// An accepted grain (full-resolution pixels).
@@ -19,8 +20,8 @@ pub struct Found {
     pub confidence: f64,
 }
 
-/// A seed to fit: position, offsets to try, first refinement step.
-type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64);
+/// A seed to fit: position, offsets to try, first refinement step, known axis angle.
+type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64, Option<f64>);
 
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
@@ -70,6 +71,17 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         GrainShape::Rod { .. } => Vec::new(),
     };
     let centre_only = [(0.0, 0.0)];
+    // A point on a rod's highlight lies on its axis, anywhere along the straight part.
+    // A thin gap between two rods may pass for a highlight: their axes lie half a width off.
+    let along_axis: Vec<(f64, f64)> = (-3..=3)
+        .flat_map(|k| {
+            [-0.5, 0.0, 0.5].map(|b| (k as f64 / 6.0 * (length - width).max(0.0), b * width))
+        })
+        .collect();
+    let axis_seeds = match params.shape {
+        GrainShape::Rod { .. } => ridges::axis_seeds(dark, 0.1 * width, length, width),
+        GrainShape::Square { .. } => Vec::new(),
+    };
 
     let residual_step = (0.15 * width).max(f);
     let mut explained = Plane::new(dark.width, dark.height, 0.0);
@@ -78,7 +90,12 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     // Seeds to fit this round: position, offsets to try, first refinement step.
     let mut pending: Vec<Task> = hole_seeds
         .iter()
-        .map(|&s| (s, &centre_only[..], 1.0))
+        .map(|&s| (s, &centre_only[..], 1.0, None))
+        .chain(
+            axis_seeds
+                .iter()
+                .map(|a| ((a.x, a.y), &along_axis[..], residual_step, Some(a.phi))),
+        )
         .collect();
     // Seeds whose fit failed, retried only when a grain is accepted next to them.
     let mut failed: Vec<(f64, f64)> = Vec::new();
@@ -103,7 +120,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         };
         for s in residual {
             if !taken(s, 0.5 * spacing, &avoid) {
-                pending.push((s, &residual_offsets[..], residual_step));
+                pending.push((s, &residual_offsets[..], residual_step, None));
                 avoid.push(s);
             }
         }
@@ -124,7 +141,9 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
             .enumerate()
-            .map(|(k, &(seed, offsets, step))| (k, fit::fit(&levels, seed, offsets, step)))
+            .map(|(k, &(seed, offsets, step, axis))| {
+                (k, fit::fit(&levels, seed, offsets, step, axis))
+            })
             .collect();
         fits.sort_by(|(_, a), (_, b)| {
             b.score

@@ -36,12 +36,33 @@ const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
 /// highlight well, so its best few distinct poses compete again at full resolution.
 const FINALISTS: usize = 6;
 
-pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: f64) -> Fitted {
+/// Half-width of the angle search around a seed's known axis (radians): the highlight's
+/// direction is good to a few degrees.
+const AXIS_ANGLE_RANGE: f64 = 9.0 * std::f64::consts::PI / 180.0;
+
+/// `axis`: the grain's angle when the seed knows it (a rod's highlight), searched only within
+/// [`AXIS_ANGLE_RANGE`] of it; otherwise every angle of the symmetry period is tried.
+pub fn fit(
+    levels: &Levels,
+    seed: (f64, f64),
+    offsets: &Offsets,
+    position_step: f64,
+    axis: Option<f64>,
+) -> Fitted {
     let f = levels.factor;
-    let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
-    let angles: Vec<f64> = (0..n)
-        .map(|k| k as f64 * levels.period / n as f64)
-        .collect();
+    let angles: Vec<f64> = match axis {
+        Some(phi) => {
+            let step = 0.5 * COARSE_ANGLE_STEP;
+            let k = (AXIS_ANGLE_RANGE / step).round() as i32;
+            (-k..=k).map(|i| phi + i as f64 * step).collect()
+        }
+        None => {
+            let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
+            (0..n)
+                .map(|k| k as f64 * levels.period / n as f64)
+                .collect()
+        }
+    };
     let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
     for &phi in &angles {
         let (s, c) = phi.sin_cos();

@@ -18,6 +18,7 @@ mod fit;
 mod model;
 mod normalise;
 mod plane;
+mod ridges;
 mod scale;
 mod seeds;
 
