@@ -34,7 +34,7 @@ const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
 
 /// Coarse poses refined at full resolution: the coarse level cannot resolve a rod's faint
 /// highlight well, so its best few distinct poses compete again at full resolution.
-const FINALISTS: usize = 6;
+const FINALISTS: usize = 3;
 
 /// Half-width of the angle search around a seed's known axis (radians): the highlight's
 /// direction is good to a few degrees.
@@ -112,7 +112,7 @@ pub fn fit(
     let step = position_step.max(f);
     let winner = finalists
         .into_iter()
-        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 3))
+        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 2))
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .expect("at least one pose is tried")
         .0;
