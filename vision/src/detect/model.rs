@@ -189,17 +189,30 @@ impl Model {
                     });
                     model.area += 4.0;
                 }
-                for (u, v) in cells {
-                    let [interior, hole, ring, highlight] = g.profile(u, v);
+                // Near the outline and the hole's edge of the sharp (full-resolution) model,
+                // taps every half pixel: the refinement's sub-pixel, sub-degree shifts move the
+                // outline by less than a pixel. The soft coarse model needs no more than one.
+                let subcells: Vec<(f32, f32, f32)> = if merge || g.soft > 1.0 {
+                    cells.iter().map(|&(u, v)| (u, v, 1.0)).collect()
+                } else {
+                    (0..16)
+                        .map(|k| {
+                            let (i, j) = ((k % 4) as f32, (k / 4) as f32);
+                            (cu - 0.75 + 0.5 * i, cv - 0.75 + 0.5 * j, 0.25)
+                        })
+                        .collect()
+                };
+                for (u, v, a) in subcells {
+                    let [interior, hole, ring, highlight] = g.profile(u, v).map(|w| w * a);
                     if !merge {
                         model.area += interior + hole;
                     }
                     for (list, w, min) in [
-                        (&mut model.interior, interior, if merge { f32::INFINITY } else { 1e-4 }),
-                        (&mut model.hole, hole, 1e-4),
-                        (&mut model.ring, ring, 1e-4),
+                        (&mut model.interior, interior, if merge { f32::INFINITY } else { 1e-5 }),
+                        (&mut model.hole, hole, 1e-5),
+                        (&mut model.ring, ring, 1e-5),
                         // The highlight's tails beyond three sigma carry nothing measurable.
-                        (&mut model.highlight, highlight, 0.011),
+                        (&mut model.highlight, highlight, 0.011 * a),
                     ] {
                         if w > min {
                             list.push(Tap { u, v, w });
