@@ -9,8 +9,8 @@ use super::DetectParams;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
 use super::plane::Plane;
-use super::seeds::{self, BrightBlob};
 use super::ridges;
+use super::seeds::{self, BrightBlob};
 use crate::GrainShape;
 
 /// An accepted grain (full-resolution pixels).
@@ -137,7 +137,6 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             factor: f,
             period: params.shape.symmetry_period(),
         };
-        let trace_start = std::time::Instant::now();
         let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
             .enumerate()
@@ -189,9 +188,6 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 corners: fine_model.corners(ft.pose),
                 confidence: now.agreement as f64,
             });
-        }
-        if std::env::var_os("FACETS_DETECT_TRACE").is_some() {
-            eprintln!("round {round}: {} seeds, {} accepted, {:.3} s", pending.len(), this_round.len(), trace_start.elapsed().as_secs_f64());
         }
         if this_round.is_empty() {
             break;

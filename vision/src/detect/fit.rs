@@ -134,9 +134,7 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
         0.5 * COARSE_ANGLE_STEP,
         5,
     );
-    let score = levels
-        .fine_model
-        .score(pose, levels.fine, levels.fine_free);
+    let score = levels.fine_model.score(pose, levels.fine, levels.fine_free);
     Fitted { pose, score }
 }
 

@@ -5,13 +5,17 @@
 //!
 //! 1. [`normalise`]: divide out the uneven backlight, map to a darkness in [0, 1];
 //! 2. [`scale`]: check the stated scale against the sizes the photograph shows;
-//! 3. [`seeds`]: candidate positions: nuts' holes (exact centre cues), then the deepest points
-//!    of the dark area not yet explained by accepted grains;
+//! 3. [`seeds`]: candidate positions: nuts' holes (exact centre cues), rods' axis highlights
+//!    ([`ridges`]: a point on the axis and its direction), then the deepest points of the dark
+//!    area not yet explained by accepted grains;
 //! 4. [`fit`]: per candidate, a coarse search over angle and position of the rendered model
 //!    ([`model`]) on a downsampled darkness, then sub-pixel, sub-degree refinement;
 //! 5. [`accept`]: greedy acceptance, best fits first, each accepted grain marking its pixels as
 //!    explained so touching grains separate and duplicates are refused; repeated while new
 //!    seeds in unexplained dark area yield grains.
+//!
+//! Photographs above [`TILE_PIXELS`] go through steps 1-5 tile by tile, so memory stays
+//! bounded whatever their size.
 
 mod accept;
 mod fit;
@@ -151,7 +155,10 @@ pub fn detect(image: &DynamicImage, params: &DetectParams) -> Result<Vec<Detecti
 /// holds its centre, so every grain is reported once, and a grain centred in a core lies whole
 /// in that tile with its neighbours' outlines around it (the margin is 1.5 grain lengths,
 /// more than the half-diagonal of a grain plus a neighbour's reach).
-fn find_in_tiles(image: &DynamicImage, params: &DetectParams) -> Result<Vec<accept::Found>, DetectError> {
+fn find_in_tiles(
+    image: &DynamicImage,
+    params: &DetectParams,
+) -> Result<Vec<accept::Found>, DetectError> {
     let (width, height) = image.dimensions();
     let length_px = params.shape.length() * params.scale;
     let margin = (1.5 * length_px).ceil() as u32 + 8;

@@ -208,7 +208,11 @@ impl Model {
                         model.area += interior + hole;
                     }
                     for (list, w, min) in [
-                        (&mut model.interior, interior, if merge { f32::INFINITY } else { 1e-5 }),
+                        (
+                            &mut model.interior,
+                            interior,
+                            if merge { f32::INFINITY } else { 1e-5 },
+                        ),
                         (&mut model.hole, hole, 1e-5),
                         (&mut model.ring, ring, 1e-5),
                         // The highlight's tails beyond three sigma carry nothing measurable.
