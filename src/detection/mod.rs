@@ -150,7 +150,9 @@ pub fn read_photo(path: &Path, max_pixels: u64) -> anyhow::Result<image::Dynamic
     })?;
     if w as u64 * h as u64 > max_pixels {
         bail!(
-            "{} is {w} x {h} px; at most {} megapixels are accepted: split it into overlapping parts",
+            "{} is {w} x {h} px; at most {} megapixels are accepted (larger photographs are \
+             processed in tiles, but their decoded pixels alone would not fit in memory): split \
+             it into overlapping parts",
             path.display(),
             max_pixels / 1_000_000
         );

@@ -9,6 +9,7 @@ use super::DetectParams;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
 use super::plane::Plane;
+use super::ridges;
 use super::seeds::{self, BrightBlob};
 use crate::GrainShape;
 
@@ -19,8 +20,8 @@ pub struct Found {
     pub confidence: f64,
 }
 
-/// A seed to fit: position, offsets to try, first refinement step.
-type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64);
+/// A seed to fit: position, offsets to try, first refinement step, known axis angle.
+type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64, Option<f64>);
 
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
@@ -70,14 +71,31 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         GrainShape::Rod { .. } => Vec::new(),
     };
     let centre_only = [(0.0, 0.0)];
+    // A point on a rod's highlight lies on its axis, anywhere along the straight part.
+    // A thin gap between two rods may pass for a highlight: their axes lie half a width off.
+    let along_axis: Vec<(f64, f64)> = (-3..=3)
+        .flat_map(|k| {
+            [-0.5, 0.0, 0.5].map(|b| (k as f64 / 6.0 * (length - width).max(0.0), b * width))
+        })
+        .collect();
+    let axis_seeds = match params.shape {
+        GrainShape::Rod { .. } => ridges::axis_seeds(dark, 0.1 * width, length, width),
+        GrainShape::Square { .. } => Vec::new(),
+    };
 
     let residual_step = (0.15 * width).max(f);
     let mut explained = Plane::new(dark.width, dark.height, 0.0);
+    let mut free = dark.clone();
     let mut found: Vec<Found> = Vec::new();
     // Seeds to fit this round: position, offsets to try, first refinement step.
     let mut pending: Vec<Task> = hole_seeds
         .iter()
-        .map(|&s| (s, &centre_only[..], 1.0))
+        .map(|&s| (s, &centre_only[..], 1.0, None))
+        .chain(
+            axis_seeds
+                .iter()
+                .map(|a| ((a.x, a.y), &along_axis[..], residual_step, Some(a.phi))),
+        )
         .collect();
     // Seeds whose fit failed, retried only when a grain is accepted next to them.
     let mut failed: Vec<(f64, f64)> = Vec::new();
@@ -85,6 +103,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     // accepted is redone.
     let reach = length.hypot(width) + 2.0;
     let mut coarse_explained = explained.downsample(factor);
+    let mut coarse_free = coarse.clone();
     for round in 0..params.max_rounds.max(1) {
         let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
             list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
@@ -101,7 +120,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         };
         for s in residual {
             if !taken(s, 0.5 * spacing, &avoid) {
-                pending.push((s, &residual_offsets[..], residual_step));
+                pending.push((s, &residual_offsets[..], residual_step, None));
                 avoid.push(s);
             }
         }
@@ -110,18 +129,20 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         }
         let levels = Levels {
             fine: dark,
-            fine_explained: &explained,
+            fine_free: &free,
             coarse: &coarse,
-            coarse_explained: &coarse_explained,
-            fine_model,
-            coarse_model,
+            coarse_free: &coarse_free,
+            fine_model: &fine_model,
+            coarse_model: &coarse_model,
             factor: f,
             period: params.shape.symmetry_period(),
         };
         let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
             .enumerate()
-            .map(|(k, &(seed, offsets, step))| (k, fit::fit(&levels, seed, offsets, step)))
+            .map(|(k, &(seed, offsets, step, axis))| {
+                (k, fit::fit(&levels, seed, offsets, step, axis))
+            })
             .collect();
         fits.sort_by(|(_, a), (_, b)| {
             b.score
@@ -147,7 +168,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             {
                 continue;
             }
-            let now = fine_model.score(ft.pose, dark, Some(&explained));
+            let now = fine_model.score(ft.pose, dark, &free);
             // Fitted without knowing a neighbour accepted this round: if that neighbour
             // takes part of this outline, fit again next round against the updated map.
             if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
@@ -160,7 +181,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 failed.push(seed.0);
                 continue;
             }
-            fine_model.paint(ft.pose, &mut explained);
+            fine_model.paint(ft.pose, dark, &mut explained, &mut free);
             this_round.push(centre);
             found.push(Found {
                 pose: ft.pose,
@@ -175,6 +196,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         failed.retain(|s| !taken(*s, reach, &this_round));
         pending = deferred;
         coarse_explained = explained.downsample(factor);
+        coarse_free = free.downsample(factor);
     }
     found
 }

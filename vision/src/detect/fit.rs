@@ -8,11 +8,12 @@ use super::plane::Plane;
 /// The two resolution levels a fit works on.
 pub struct Levels<'a> {
     pub fine: &'a Plane,
-    pub fine_explained: &'a Plane,
+    /// Darkness not yet explained by accepted grains, full resolution.
+    pub fine_free: &'a Plane,
     pub coarse: &'a Plane,
-    pub coarse_explained: &'a Plane,
-    pub fine_model: Model,
-    pub coarse_model: Model,
+    pub coarse_free: &'a Plane,
+    pub fine_model: &'a Model,
+    pub coarse_model: &'a Model,
     /// Downsampling factor between the levels.
     pub factor: f64,
     /// Rotation after which the outline looks the same (radians).
@@ -33,14 +34,35 @@ const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
 
 /// Coarse poses refined at full resolution: the coarse level cannot resolve a rod's faint
 /// highlight well, so its best few distinct poses compete again at full resolution.
-const FINALISTS: usize = 6;
+const FINALISTS: usize = 3;
 
-pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: f64) -> Fitted {
+/// Half-width of the angle search around a seed's known axis (radians): the highlight's
+/// direction is good to a few degrees.
+const AXIS_ANGLE_RANGE: f64 = 9.0 * std::f64::consts::PI / 180.0;
+
+/// `axis`: the grain's angle when the seed knows it (a rod's highlight), searched only within
+/// [`AXIS_ANGLE_RANGE`] of it; otherwise every angle of the symmetry period is tried.
+pub fn fit(
+    levels: &Levels,
+    seed: (f64, f64),
+    offsets: &Offsets,
+    position_step: f64,
+    axis: Option<f64>,
+) -> Fitted {
     let f = levels.factor;
-    let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
-    let angles: Vec<f64> = (0..n)
-        .map(|k| k as f64 * levels.period / n as f64)
-        .collect();
+    let angles: Vec<f64> = match axis {
+        Some(phi) => {
+            let step = 0.5 * COARSE_ANGLE_STEP;
+            let k = (AXIS_ANGLE_RANGE / step).round() as i32;
+            (-k..=k).map(|i| phi + i as f64 * step).collect()
+        }
+        None => {
+            let n = (levels.period / COARSE_ANGLE_STEP).round().max(1.0) as usize;
+            (0..n)
+                .map(|k| k as f64 * levels.period / n as f64)
+                .collect()
+        }
+    };
     let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
     for &phi in &angles {
         let (s, c) = phi.sin_cos();
@@ -54,12 +76,12 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
             };
             let sc = levels
                 .coarse_model
-                .score(pose, levels.coarse, Some(levels.coarse_explained));
+                .score(pose, levels.coarse, levels.coarse_free);
             tried.push((sc.total, Pose { x, y, phi }));
         }
     }
     tried.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let distinct = 0.3 * levels.fine_model.half_width as f64;
+    let distinct = 0.3 * levels.fine_model.half_width() as f64;
     let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS);
     for (_, p) in tried {
         let far = finalists.iter().all(|q| {
@@ -84,13 +106,13 @@ pub fn fit(levels: &Levels, seed: (f64, f64), offsets: &Offsets, position_step: 
         };
         levels
             .coarse_model
-            .score(scaled, levels.coarse, Some(levels.coarse_explained))
+            .score(scaled, levels.coarse, levels.coarse_free)
             .total as f64
     };
     let step = position_step.max(f);
     let winner = finalists
         .into_iter()
-        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 3))
+        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 2))
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .expect("at least one pose is tried")
         .0;
@@ -102,7 +124,7 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
     let eval = |p: Pose| {
         levels
             .fine_model
-            .score(p, levels.fine, Some(levels.fine_explained))
+            .score(p, levels.fine, levels.fine_free)
             .total as f64
     };
     let (pose, _) = climb(
@@ -112,9 +134,7 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
         0.5 * COARSE_ANGLE_STEP,
         5,
     );
-    let score = levels
-        .fine_model
-        .score(pose, levels.fine, Some(levels.fine_explained));
+    let score = levels.fine_model.score(pose, levels.fine, levels.fine_free);
     Fitted { pose, score }
 }
 

@@ -5,19 +5,24 @@
 //!
 //! 1. [`normalise`]: divide out the uneven backlight, map to a darkness in [0, 1];
 //! 2. [`scale`]: check the stated scale against the sizes the photograph shows;
-//! 3. [`seeds`]: candidate positions: nuts' holes (exact centre cues), then the deepest points
-//!    of the dark area not yet explained by accepted grains;
+//! 3. [`seeds`]: candidate positions: nuts' holes (exact centre cues), rods' axis highlights
+//!    ([`ridges`]: a point on the axis and its direction), then the deepest points of the dark
+//!    area not yet explained by accepted grains;
 //! 4. [`fit`]: per candidate, a coarse search over angle and position of the rendered model
 //!    ([`model`]) on a downsampled darkness, then sub-pixel, sub-degree refinement;
 //! 5. [`accept`]: greedy acceptance, best fits first, each accepted grain marking its pixels as
 //!    explained so touching grains separate and duplicates are refused; repeated while new
 //!    seeds in unexplained dark area yield grains.
+//!
+//! Photographs above [`TILE_PIXELS`] go through steps 1-5 tile by tile, so memory stays
+//! bounded whatever their size.
 
 mod accept;
 mod fit;
 mod model;
 mod normalise;
 mod plane;
+mod ridges;
 mod scale;
 mod seeds;
 
@@ -27,10 +32,14 @@ use crate::{GrainOutline, GrainShape};
 
 pub use model::Pose;
 
-/// Largest photograph processed, in pixels. The detector holds a few f32 planes of the
-/// photograph (about 20 bytes a pixel with the decoded image), so this bounds memory at
-/// about 1 GB.
-pub const MAX_PIXELS: u64 = 50_000_000;
+/// Largest photograph accepted, in pixels: its decoded pixels alone take 0.5-1 GB (8 or 16
+/// bits), and a deposit photograph has no reason to be larger.
+pub const MAX_PIXELS: u64 = 500_000_000;
+
+/// Photographs larger than this (pixels) are processed in overlapping tiles of about this
+/// size: the detector holds several f32 planes of what it works on (about 40 bytes a pixel),
+/// so a tile bounds its memory at about 0.7 GB whatever the photograph's size.
+pub const TILE_PIXELS: u64 = 16_000_000;
 
 /// What the detector needs to know about the photograph.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,6 +58,8 @@ pub struct DetectParams {
     pub check_scale: bool,
     /// Largest photograph accepted, in pixels.
     pub max_pixels: u64,
+    /// Photographs with more pixels are processed in overlapping tiles of about this size.
+    pub tile_pixels: u64,
 }
 
 impl DetectParams {
@@ -61,6 +72,7 @@ impl DetectParams {
             max_rounds: 40,
             check_scale: true,
             max_pixels: MAX_PIXELS,
+            tile_pixels: TILE_PIXELS,
         }
     }
 }
@@ -99,7 +111,8 @@ pub enum DetectError {
     },
     #[error(
         "the photograph is {width} x {height} px ({mpx:.0} megapixels); the detector accepts at \
-         most {limit_mpx:.0} megapixels: split it into overlapping parts"
+         most {limit_mpx:.0} megapixels (it works on larger ones in tiles, but their decoded \
+         pixels alone would not fit in memory): split it into overlapping parts"
     )]
     TooLarge {
         width: u32,
@@ -127,6 +140,57 @@ pub fn detect(image: &DynamicImage, params: &DetectParams) -> Result<Vec<Detecti
     if pixels == 0 {
         return Ok(Vec::new());
     }
+    let found = if pixels > params.tile_pixels {
+        find_in_tiles(image, params)?
+    } else {
+        find(image, params)?
+    };
+    Ok(found
+        .into_iter()
+        .filter_map(|found| to_detection(found, params, width, height))
+        .collect())
+}
+
+/// Tiles overlap by `margin` on each side of a core; a grain is kept by the tile whose core
+/// holds its centre, so every grain is reported once, and a grain centred in a core lies whole
+/// in that tile with its neighbours' outlines around it (the margin is 1.5 grain lengths,
+/// more than the half-diagonal of a grain plus a neighbour's reach).
+fn find_in_tiles(
+    image: &DynamicImage,
+    params: &DetectParams,
+) -> Result<Vec<accept::Found>, DetectError> {
+    let (width, height) = image.dimensions();
+    let length_px = params.shape.length() * params.scale;
+    let margin = (1.5 * length_px).ceil() as u32 + 8;
+    let side = ((params.tile_pixels as f64).sqrt() as u32).max(4 * margin);
+    let core = side - 2 * margin;
+    let mut all = Vec::new();
+    for y0 in (0..height).step_by(core as usize) {
+        for x0 in (0..width).step_by(core as usize) {
+            let (tx0, ty0) = (x0.saturating_sub(margin), y0.saturating_sub(margin));
+            let tx1 = (x0 + core + margin).min(width);
+            let ty1 = (y0 + core + margin).min(height);
+            let tile = image.crop_imm(tx0, ty0, tx1 - tx0, ty1 - ty0);
+            let (cx1, cy1) = (f64::from(x0 + core), f64::from(y0 + core));
+            for mut g in find(&tile, params)? {
+                let (dx, dy) = (f64::from(tx0), f64::from(ty0));
+                g.pose.x += dx;
+                g.pose.y += dy;
+                g.corners = g.corners.map(|(c, r)| (c + dx, r + dy));
+                let (x, y) = (g.pose.x, g.pose.y);
+                if x >= f64::from(x0) && x < cx1 && y >= f64::from(y0) && y < cy1 {
+                    all.push(g);
+                }
+            }
+        }
+    }
+    Ok(all)
+}
+
+/// The grains of one photograph (or tile), in its pixels.
+fn find(image: &DynamicImage, params: &DetectParams) -> Result<Vec<accept::Found>, DetectError> {
+    let (width, height) = image.dimensions();
+    let pixels = width as u64 * height as u64;
     let grey = normalise::grey_plane(image);
     let length_px = params.shape.length() * params.scale;
     let dark = normalise::darkness(&grey, (2.0 * length_px).round() as usize);
@@ -140,11 +204,7 @@ pub fn detect(image: &DynamicImage, params: &DetectParams) -> Result<Vec<Detecti
     if params.check_scale {
         check_scale(params, &dark.plane, &blobs)?;
     }
-    let poses = accept::find_grains(&dark.plane, &blobs, params);
-    Ok(poses
-        .into_iter()
-        .filter_map(|found| to_detection(found, params, width, height))
-        .collect())
+    Ok(accept::find_grains(&dark.plane, &blobs, params))
 }
 
 fn validate(params: &DetectParams) -> Result<(), DetectError> {

@@ -1,6 +1,12 @@
 //! The rendered grain model a candidate pose is scored with: an anti-aliased rounded
 //! rectangle (spheropolygon, rounding 0.05 D), the bright hole of a nut, the faint highlight
 //! along a rod's axis, and a thin ring of field around the outline.
+//!
+//! The model is tabulated once as taps (points in the grain's frame with weights) and a pose
+//! is scored by sampling the darkness bilinearly at the rotated taps. Rasterising the outline
+//! per pose cost a square root (two for nuts, an exponential for rods) per pixel; the taps
+//! cost one rotation and one bilinear read, and deep inside the outline, where a small move
+//! of the pose changes nothing, one tap stands for a 2 x 2 block.
 
 use crate::GrainShape;
 
@@ -24,9 +30,9 @@ pub struct Pose {
 
 /// Grain geometry in pixels at one resolution level.
 #[derive(Clone, Copy, Debug)]
-pub struct Model {
-    pub half_length: f32,
-    pub half_width: f32,
+struct Geometry {
+    half_length: f32,
+    half_width: f32,
     round: f32,
     hole_radius: f32,
     highlight_sigma: f32,
@@ -35,6 +41,31 @@ pub struct Model {
     soft: f32,
     /// Width of the ring of field scored outside the outline (pixels).
     ring: f32,
+}
+
+/// A point of the model in the grain's frame (u along the long axis, v across) and its weight
+/// (the area it stands for times the cue's profile there).
+#[derive(Clone, Copy, Debug)]
+struct Tap {
+    u: f32,
+    v: f32,
+    w: f32,
+}
+
+/// The grain model at one resolution level.
+#[derive(Clone, Debug)]
+pub struct Model {
+    geometry: Geometry,
+    /// Grain interior (outside the hole), scored on the darkness not yet explained.
+    interior: Vec<Tap>,
+    /// The nut's hole: should be bright.
+    hole: Vec<Tap>,
+    /// The field just outside the outline (and the outer half of its ramp): should be bright.
+    ring: Vec<Tap>,
+    /// The faint highlight along a rod's axis: should be a little less dark.
+    highlight: Vec<Tap>,
+    /// Covered area of the whole outline (interior and hole), the denominator of `visible`.
+    area: f32,
 }
 
 /// Score of one pose.
@@ -46,6 +77,59 @@ pub struct Score {
     pub agreement: f32,
     /// Fraction of the outline's area that lies inside the photograph.
     pub visible: f32,
+}
+
+impl Geometry {
+    /// Signed distance (pixels) from the outline, negative inside, in grain coordinates.
+    #[inline]
+    fn signed_distance(&self, u: f32, v: f32) -> f32 {
+        let qx = u.abs() - (self.half_length - self.round);
+        let qy = v.abs() - (self.half_width - self.round);
+        let outside = (qx.max(0.0).powi(2) + qy.max(0.0).powi(2)).sqrt();
+        outside + qx.max(qy).min(0.0) - self.round
+    }
+
+    /// Coverage in [0, 1] of a pixel centred at (u, v) in grain coordinates.
+    #[inline]
+    fn coverage(&self, u: f32, v: f32) -> f32 {
+        (0.5 - self.signed_distance(u, v) / self.soft).clamp(0.0, 1.0)
+    }
+
+    fn hole_coverage(&self, u: f32, v: f32) -> f32 {
+        if self.hole_radius <= 0.0 {
+            return 0.0;
+        }
+        (0.5 + (self.hole_radius - u.hypot(v)) / self.soft).clamp(0.0, 1.0)
+    }
+
+    /// The taps of a point: interior, hole, ring and highlight weights per unit area.
+    fn profile(&self, u: f32, v: f32) -> [f32; 4] {
+        let sd = self.signed_distance(u, v);
+        if sd > self.ring {
+            return [0.0; 4];
+        }
+        let cov = (0.5 - sd / self.soft).clamp(0.0, 1.0);
+        let ring = if cov < 1.0 { 1.0 - cov } else { 0.0 };
+        if cov <= 0.0 {
+            return [0.0, 0.0, ring, 0.0];
+        }
+        let hc = self.hole_coverage(u, v);
+        let highlight = if self.highlight_sigma > 0.0 && u.abs() < self.highlight_half_length {
+            let s = self.highlight_sigma;
+            cov * (-v * v / (2.0 * s * s)).exp()
+        } else {
+            0.0
+        };
+        [cov * (1.0 - hc), hc, ring, highlight]
+    }
+
+    /// Far enough inside the outline and from the hole's edge that a 2 x 2 block of taps
+    /// around (u, v) (spacing 1) all have the same plain interior profile.
+    fn deep(&self, u: f32, v: f32) -> bool {
+        let margin = 0.5 * self.soft + 1.5;
+        self.signed_distance(u, v) < -margin
+            && (self.hole_radius <= 0.0 || u.hypot(v) > self.hole_radius + margin)
+    }
 }
 
 impl Model {
@@ -63,7 +147,7 @@ impl Model {
             GrainShape::Square { hole_diameter, .. } => (0.5 * hole_diameter * px_per_m, 0.0, 0.0),
             GrainShape::Rod { .. } => (0.0, (0.1 * width).max(0.5), 0.5 * (length - width)),
         };
-        Model {
+        let geometry = Geometry {
             half_length: (0.5 * length) as f32,
             half_width: (0.5 * width) as f32,
             round: (ROUNDING * width) as f32,
@@ -72,126 +156,149 @@ impl Model {
             highlight_half_length: highlight_half_length.max(0.0) as f32,
             soft: soft as f32,
             ring: (0.08 * width).clamp(soft, 2.5 * soft) as f32,
+        };
+        Self::tabulate(geometry)
+    }
+
+    /// Taps on a unit grid centred on the grain, merged into 2 x 2 blocks deep inside.
+    fn tabulate(g: Geometry) -> Model {
+        let reach_u = g.half_length + g.ring + g.soft + 1.0;
+        let reach_v = g.half_width + g.ring + g.soft + 1.0;
+        // Blocks of 2 x 2 unit cells, symmetric about the centre.
+        let blocks_u = (reach_u / 2.0).ceil() as i32;
+        let blocks_v = (reach_v / 2.0).ceil() as i32;
+        let mut model = Model {
+            geometry: g,
+            interior: Vec::new(),
+            hole: Vec::new(),
+            ring: Vec::new(),
+            highlight: Vec::new(),
+            area: 0.0,
+        };
+        for bv in -blocks_v..blocks_v {
+            for bu in -blocks_u..blocks_u {
+                let (cu, cv) = (2.0 * bu as f32 + 1.0, 2.0 * bv as f32 + 1.0);
+                let cells = [(-0.5, -0.5), (0.5, -0.5), (-0.5, 0.5), (0.5, 0.5)]
+                    .map(|(du, dv)| (cu + du, cv + dv));
+                let merge = cells.iter().all(|&(u, v)| g.deep(u, v));
+                if merge {
+                    model.interior.push(Tap {
+                        u: cu,
+                        v: cv,
+                        w: 4.0,
+                    });
+                    model.area += 4.0;
+                }
+                // Near the outline and the hole's edge of the sharp (full-resolution) model,
+                // taps every half pixel: the refinement's sub-pixel, sub-degree shifts move the
+                // outline by less than a pixel. The soft coarse model needs no more than one.
+                let subcells: Vec<(f32, f32, f32)> = if merge || g.soft > 1.0 {
+                    cells.iter().map(|&(u, v)| (u, v, 1.0)).collect()
+                } else {
+                    (0..16)
+                        .map(|k| {
+                            let (i, j) = ((k % 4) as f32, (k / 4) as f32);
+                            (cu - 0.75 + 0.5 * i, cv - 0.75 + 0.5 * j, 0.25)
+                        })
+                        .collect()
+                };
+                for (u, v, a) in subcells {
+                    let [interior, hole, ring, highlight] = g.profile(u, v).map(|w| w * a);
+                    if !merge {
+                        model.area += interior + hole;
+                    }
+                    for (list, w, min) in [
+                        (
+                            &mut model.interior,
+                            interior,
+                            if merge { f32::INFINITY } else { 1e-5 },
+                        ),
+                        (&mut model.hole, hole, 1e-5),
+                        (&mut model.ring, ring, 1e-5),
+                        // The highlight's tails beyond three sigma carry nothing measurable.
+                        (&mut model.highlight, highlight, 0.011 * a),
+                    ] {
+                        if w > min {
+                            list.push(Tap { u, v, w });
+                        }
+                    }
+                }
+            }
         }
+        model
     }
 
-    /// Signed distance (pixels) from the outline, negative inside, in grain coordinates.
-    #[inline]
-    fn signed_distance(&self, u: f32, v: f32) -> f32 {
-        let qx = u.abs() - (self.half_length - self.round);
-        let qy = v.abs() - (self.half_width - self.round);
-        let outside = (qx.max(0.0).powi(2) + qy.max(0.0).powi(2)).sqrt();
-        outside + qx.max(qy).min(0.0) - self.round
-    }
-
-    /// Coverage in [0, 1] of a pixel centred at (u, v) in grain coordinates.
-    #[inline]
-    pub fn coverage(&self, u: f32, v: f32) -> f32 {
-        (0.5 - self.signed_distance(u, v) / self.soft).clamp(0.0, 1.0)
+    pub fn half_width(&self) -> f32 {
+        self.geometry.half_width
     }
 
     /// Half extents (columns, rows) of the axis-aligned box that holds the pose and its ring.
     pub fn extent(&self, phi: f64) -> (f32, f32) {
+        let g = &self.geometry;
         let (s, c) = (phi.sin().abs() as f32, phi.cos().abs() as f32);
-        let pad = self.ring + self.soft + 1.0;
+        let pad = g.ring + g.soft + 1.0;
         (
-            c * self.half_length + s * self.half_width + pad,
-            s * self.half_length + c * self.half_width + pad,
+            c * g.half_length + s * g.half_width + pad,
+            s * g.half_length + c * g.half_width + pad,
         )
     }
 
-    /// Scores a pose against the darkness, pixels already explained by accepted grains
-    /// counting as field for the interior (so grains do not overlap).
-    pub fn score(&self, pose: Pose, dark: &Plane, explained: Option<&Plane>) -> Score {
-        let (ex, ey) = self.extent(pose.phi);
+    /// Scores a pose against the darkness `dark`; the interior is scored on `free`, the
+    /// darkness not yet explained by accepted grains, so grains do not overlap.
+    pub fn score(&self, pose: Pose, dark: &Plane, free: &Plane) -> Score {
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
-        let c0 = (px - ex).floor() as isize;
-        let c1 = (px + ex).ceil() as isize;
-        let r0 = (py - ey).floor() as isize;
-        let r1 = (py + ey).ceil() as isize;
-        let (w, h) = (dark.width as isize, dark.height as isize);
-        let (mut inside, mut inside_w, mut hole, mut hole_w) = (0.0f32, 0.0f32, 0.0f32, 0.0f32);
-        let (mut ring, mut highlight) = (0.0f32, 0.0f32);
-        let mut area_all = 0.0f32;
-        let inv2s2 = if self.highlight_sigma > 0.0 {
-            1.0 / (2.0 * self.highlight_sigma * self.highlight_sigma)
-        } else {
-            0.0
-        };
-        let (box_u, box_v) = (
-            self.half_length + self.ring + 1.0,
-            self.half_width + self.ring + 1.0,
-        );
-        for r in r0..=r1 {
-            let dy = r as f32 + 0.5 - py;
-            let visible_row = r >= 0 && r < h;
-            // Columns of this row inside the rotated box around the outline.
-            let (lo_u, hi_u) = span(cos, -dy * sin, box_u);
-            let (lo_v, hi_v) = span(sin, dy * cos, box_v);
-            let lo = ((px + lo_u.max(lo_v) - 0.5).floor() as isize).max(c0);
-            let hi = ((px + hi_u.min(hi_v) - 0.5).ceil() as isize).min(c1);
-            for c in lo..=hi {
-                let dx = c as f32 + 0.5 - px;
-                let u = dx * cos - dy * sin;
-                let v = dx * sin + dy * cos;
-                let sd = self.signed_distance(u, v);
-                if sd > self.ring {
-                    continue;
-                }
-                let cov = (0.5 - sd / self.soft).clamp(0.0, 1.0);
-                area_all += cov;
-                if !visible_row || c < 0 || c >= w {
-                    continue;
-                }
-                let i = r as usize * dark.width + c as usize;
-                let d = dark.data[i];
-                if cov < 1.0 {
-                    ring += (1.0 - cov) * (1.0 - 2.0 * d);
-                }
-                if cov <= 0.0 {
-                    continue;
-                }
-                let d_eff = match explained {
-                    Some(e) => d * (1.0 - e.data[i]),
-                    None => d,
-                };
-                let mut interior = cov;
-                if self.hole_radius > 0.0 {
-                    let rho = (u * u + v * v).sqrt();
-                    let hc = (0.5 + (self.hole_radius - rho) / self.soft).clamp(0.0, 1.0);
-                    if hc > 0.0 {
-                        hole += hc * (1.0 - 2.0 * d);
-                        hole_w += hc;
-                        interior *= 1.0 - hc;
+        let (ex, ey) = self.extent(pose.phi);
+        let inside_photo = px - ex >= 1.0
+            && py - ey >= 1.0
+            && px + ex + 1.0 < dark.width as f32
+            && py + ey + 1.0 < dark.height as f32;
+        // Sums of weight x darkness and of the weights, over the taps inside the photograph.
+        let sums = |taps: &[Tap], plane: &Plane| -> (f32, f32) {
+            let (mut s, mut n) = (0.0f32, 0.0f32);
+            for t in taps {
+                let x = px + t.u * cos + t.v * sin;
+                let y = py - t.u * sin + t.v * cos;
+                let d = if inside_photo {
+                    bilinear_inside(plane, x, y)
+                } else {
+                    match bilinear(plane, x, y) {
+                        Some(d) => d,
+                        None => continue,
                     }
-                }
-                inside += interior * (2.0 * d_eff - 1.0);
-                inside_w += interior;
-                if inv2s2 > 0.0 && u.abs() < self.highlight_half_length {
-                    highlight -= cov * (-v * v * inv2s2).exp() * d;
-                }
+                };
+                s += t.w * d;
+                n += t.w;
             }
-        }
-        let visible = if area_all > 0.0 {
-            (inside_w + hole_w) / area_all
+            (s, n)
+        };
+        let (int_d, int_w) = sums(&self.interior, free);
+        let (hole_d, hole_w) = sums(&self.hole, dark);
+        let (ring_d, ring_w) = sums(&self.ring, dark);
+        let (hl_d, _) = sums(&self.highlight, dark);
+        let inside = 2.0 * int_d - int_w;
+        let hole = hole_w - 2.0 * hole_d;
+        let ring = ring_w - 2.0 * ring_d;
+        let visible = if self.area > 0.0 {
+            (int_w + hole_w) / self.area
         } else {
             0.0
         };
-        let agreement = if inside_w + hole_w > 0.0 {
-            (inside + hole) / (inside_w + hole_w)
+        let agreement = if int_w + hole_w > 0.0 {
+            (inside + hole) / (int_w + hole_w)
         } else {
             -1.0
         };
         Score {
-            total: inside + HOLE_WEIGHT * hole + RING_WEIGHT * ring + HIGHLIGHT_WEIGHT * highlight,
+            total: inside + HOLE_WEIGHT * hole + RING_WEIGHT * ring - HIGHLIGHT_WEIGHT * hl_d,
             agreement,
             visible: visible.min(1.0),
         }
     }
 
-    /// Adds this pose's opacity to the explained map (clamped to 1).
-    pub fn paint(&self, pose: Pose, explained: &mut Plane) {
+    /// Adds this pose's opacity to the explained map (clamped to 1) and lowers the free
+    /// darkness (`dark` times what is not explained) to match.
+    pub fn paint(&self, pose: Pose, dark: &Plane, explained: &mut Plane, free: &mut Plane) {
         let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
@@ -205,10 +312,12 @@ impl Model {
                 let dx = c as f32 + 0.5 - px;
                 let u = dx * cos - dy * sin;
                 let v = dx * sin + dy * cos;
-                let cov = self.coverage(u, v);
+                let cov = self.geometry.coverage(u, v);
                 if cov > 0.0 {
-                    let e = &mut explained.data[r as usize * explained.width + c as usize];
+                    let i = r as usize * explained.width + c as usize;
+                    let e = &mut explained.data[i];
                     *e = (*e + cov).min(1.0);
+                    free.data[i] = dark.data[i] * (1.0 - *e);
                 }
             }
         }
@@ -217,7 +326,10 @@ impl Model {
     /// Corners of the outline (pixels), for the cut test and overlays.
     pub fn corners(&self, pose: Pose) -> [(f64, f64); 4] {
         let (s, c) = pose.phi.sin_cos();
-        let (a, b) = (self.half_length as f64, self.half_width as f64);
+        let (a, b) = (
+            self.geometry.half_length as f64,
+            self.geometry.half_width as f64,
+        );
         [(a, b), (-a, b), (-a, -b), (a, -b)].map(|(u, v)| {
             // Inverse of u = dx cos - dy sin, v = dx sin + dy cos.
             (pose.x + u * c + v * s, pose.y - u * s + v * c)
@@ -225,17 +337,40 @@ impl Model {
     }
 }
 
-/// The interval of dx where |coef * dx + offset| <= bound.
+/// Bilinear value at continuous pixel coordinates (pixel centres at integer + 0.5), known to
+/// lie at least one pixel inside the plane.
 #[inline]
-fn span(coef: f32, offset: f32, bound: f32) -> (f32, f32) {
-    if coef.abs() < 1e-6 {
-        return if offset.abs() <= bound {
-            (f32::NEG_INFINITY, f32::INFINITY)
-        } else {
-            (1.0, -1.0)
-        };
+fn bilinear_inside(p: &Plane, x: f32, y: f32) -> f32 {
+    // Non-negative here, so truncation is the floor (and far cheaper than `floor` on
+    // baseline x86-64, which has no rounding instruction).
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (c, r) = (fx as usize, fy as usize);
+    let (tx, ty) = (fx - c as f32, fy - r as f32);
+    let i = r * p.width + c;
+    let (a, b) = (p.data[i], p.data[i + 1]);
+    let (d, e) = (p.data[i + p.width], p.data[i + p.width + 1]);
+    let top = a + tx * (b - a);
+    let bottom = d + tx * (e - d);
+    top + ty * (bottom - top)
+}
+
+/// Bilinear value at continuous pixel coordinates, neighbours clamped at the edges; `None`
+/// outside the photograph.
+#[inline]
+fn bilinear(p: &Plane, x: f32, y: f32) -> Option<f32> {
+    if !(x >= 0.0 && y >= 0.0 && x < p.width as f32 && y < p.height as f32) {
+        return None;
     }
-    let a = (-bound - offset) / coef;
-    let b = (bound - offset) / coef;
-    (a.min(b), a.max(b))
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (c, r) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - c, fy - r);
+    let (w, h) = (p.width as isize, p.height as isize);
+    let c0 = (c as isize).clamp(0, w - 1) as usize;
+    let c1 = (c as isize + 1).clamp(0, w - 1) as usize;
+    let r0 = (r as isize).clamp(0, h - 1) as usize;
+    let r1 = (r as isize + 1).clamp(0, h - 1) as usize;
+    let at = |rr: usize, cc: usize| p.data[rr * p.width + cc];
+    let top = at(r0, c0) + tx * (at(r0, c1) - at(r0, c0));
+    let bottom = at(r1, c0) + tx * (at(r1, c1) - at(r1, c0));
+    Some(top + ty * (bottom - top))
 }
