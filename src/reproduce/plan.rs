@@ -146,7 +146,7 @@ impl Plan {
             name: "tiny".into(),
             silo_width_mm: 120.0,
             shapes: vec![
-                shape(GrainKindName::Square, 60, &[0.1], 1.0),
+                shape(GrainKindName::Square, 80, &[0.1], 1.0),
                 shape(GrainKindName::Rod3, 80, &[0.1], 1.0),
             ],
             simulation_realisations: 2,
