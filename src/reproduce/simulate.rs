@@ -216,7 +216,9 @@ mod tests {
         assert!(!found.relaxed);
         assert_eq!(found.frame_mm.unwrap().x_max, 120.0);
         // Another scene in the same folder (a plan edited between runs) is run again.
-        std::fs::write(f.dir.join("scene.toml"), f.scene_toml.replace("60", "61")).unwrap();
+        let edited = format!("{}\n[run]\nseed = {}\n", f.scene_toml, f.seed + 1);
+        assert_ne!(edited, f.scene_toml);
+        std::fs::write(f.dir.join("scene.toml"), edited).unwrap();
         assert!(done(&f).is_none());
     }
 }
