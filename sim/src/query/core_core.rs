@@ -116,6 +116,7 @@ fn nearer_end(core: &PlacedCore, e: usize, along: f64) -> usize {
 /// into a deposit at rest. The end is counted once, by the corner that lies deeper inside the
 /// other's face: the two candidates hand over where they are equally deep, with the same
 /// overlap to within gap x tilt^2.
+#[inline]
 fn count_corners_once(
     first: &PlacedCore,
     second: &PlacedCore,
@@ -124,9 +125,9 @@ fn count_corners_once(
     if out.len() < 2 {
         return;
     }
-    // (index in out, inset of the corner from the face's nearer end)
-    let mut drop = [false; 8];
-    for a in 0..out.len().min(8) {
+    // Bit k set: drop out[k].
+    let mut drop = 0u32;
+    for a in 0..out.len().min(32) {
         let Features::VertexEdge { vertex: k, edge: e } = out[a].features else {
             continue;
         };
@@ -134,7 +135,7 @@ fn count_corners_once(
         let p = first.vertices[k];
         let along_p = (p - second.vertices[e]).dot(&second.directions[e]);
         let m_near = nearer_end(second, e, along_p);
-        for b in 0..out.len().min(8) {
+        for b in 0..out.len().min(32) {
             let Features::EdgeVertex { edge: f, vertex: m } = out[b].features else {
                 continue;
             };
@@ -149,16 +150,15 @@ fn count_corners_once(
             }
             let inset_p = along_p.min(second.lengths[e] - along_p);
             let inset_q = along_q.min(first.lengths[f] - along_q);
-            if inset_p >= inset_q {
-                drop[b] = true;
-            } else {
-                drop[a] = true;
-            }
+            drop |= if inset_p >= inset_q { 1 << b } else { 1 << a };
         }
+    }
+    if drop == 0 {
+        return;
     }
     let mut index = 0;
     out.retain(|_| {
-        let keep = index >= drop.len() || !drop[index];
+        let keep = drop & (1 << index) == 0;
         index += 1;
         keep
     });
