@@ -284,7 +284,7 @@ fn tiny_study_gives_every_figure_and_table_and_restarts() {
     .unwrap();
     std::fs::write(
         photos.join("manifest.csv"),
-        "file,shape,phi0,px_per_mm,silo_width_mm,frame_y_mm\nnuts.png,square,0.1,6,120,0\n",
+        "file,shape,phi0,px_per_mm,silo_width_mm,frame_y_mm\nnuts.png,square,0.1,10,120,0\n",
     )
     .unwrap();
     facets(&[

@@ -152,7 +152,7 @@ impl Plan {
             simulation_realisations: 2,
             photo_realisations: 1,
             frame: FrameChoice::Whole,
-            photo_px_per_mm: 6.0,
+            photo_px_per_mm: 10.0,
             photo_style: "lab".into(),
             rdf_margin_over_d: 1.1,
             w_scan_over_d: vec![1.0, 2.0],
