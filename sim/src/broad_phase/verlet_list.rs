@@ -57,51 +57,26 @@ impl VerletList {
         skin: f64,
         near: impl Fn(usize, usize) -> bool + Sync,
     ) {
-        let largest = reach.iter().copied().fold(0.0, f64::max);
-        let cells = CellList::new(positions, 2.0 * largest + skin);
-        let per_grain: Vec<Vec<u32>> = (0..positions.len())
-            .into_par_iter()
-            .map(|i| {
-                let (p, r) = (positions[i], reach[i]);
-                let mut near: Vec<u32> = cells
-                    .around(p)
-                    .filter(|&j| {
-                        let j = j as usize;
-                        j > i
-                            && (mobile[i] || mobile[j])
-                            && (positions[j] - p).norm_squared() < (r + reach[j] + skin).powi(2)
-                            && near(i, j)
-                    })
-                    .collect();
-                near.sort_unstable();
-                near
-            })
-            .collect();
-        self.pairs = per_grain
-            .iter()
-            .enumerate()
-            .flat_map(|(i, near)| near.iter().map(move |&j| [i as u32, j]))
-            .collect();
-        self.wall_pairs = (0..positions.len())
-            .filter(|&i| mobile[i])
-            .flat_map(|i| {
-                walls
-                    .iter()
-                    .enumerate()
-                    .filter(move |(_, w)| w.distance(positions[i]) < reach[i] + skin)
-                    .map(move |(k, _)| [i as u32, k as u32])
-            })
-            .collect();
-        self.reference = positions.to_vec();
-        self.reference_angles = angles.to_vec();
-        self.rebuilds += 1;
+        // Every mobile grain searched, nothing kept: the search around moving grains is the
+        // whole rebuild.
+        self.rebuild_around_awake(
+            &[],
+            &[],
+            positions,
+            angles,
+            reach,
+            mobile,
+            walls,
+            skin,
+            near,
+        );
     }
 }
 
 impl VerletList {
     /// Rebuilds around the awake grains only: pairs between two grains that do not move
     /// (fixed or sleeping) are kept from `old_pairs` as they were, and only the awake grains
-    /// are searched. Equal to [`Self::rebuild`] as long as every grain that stopped moving did
+    /// (`awake[i]`: mobile and not asleep) are searched. Equal to [`Self::rebuild`] as long as every grain that stopped moving did
     /// so with the list fresh around it, which holds because a grain that wakes forces a
     /// rebuild before it moves by more than a step.
     #[allow(clippy::too_many_arguments)]

@@ -108,10 +108,6 @@ impl Dormancy {
         self.watched.push(false);
         self.asleep_load.push((Vec2::zeros(), 0.0));
     }
-
-    pub fn enabled(&self) -> bool {
-        self.settings.is_some()
-    }
 }
 
 impl World {
@@ -191,10 +187,11 @@ impl World {
     /// Marks the sleeping grains that share a listed pair with an awake grain.
     pub(crate) fn find_watched(&mut self) {
         let d = &mut self.dormancy;
-        d.watched.iter_mut().for_each(|w| *w = false);
+        // With sleep off nothing is ever watched (turning it off wakes and clears everyone).
         if d.settings.is_none() {
             return;
         }
+        d.watched.iter_mut().for_each(|w| *w = false);
         for &[i, j] in &self.verlet.pairs {
             let (i, j) = (i as usize, j as usize);
             if d.awake[i] != d.awake[j] {

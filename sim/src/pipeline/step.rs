@@ -199,29 +199,24 @@ impl World {
                 !found.is_empty()
             };
             let g = &this.grains;
-            if this.dormancy.enabled() && verlet.rebuilds > 0 {
-                verlet.rebuild_around_awake(
-                    &old_pairs,
-                    &old_wall_pairs,
-                    &g.position,
-                    &g.angle,
-                    &this.reach,
-                    &this.dormancy.awake,
-                    &this.walls,
-                    this.skin,
-                    near,
-                );
+            // Pairs of two resting grains are kept, and the awake grains searched. A list
+            // reset by a new wall holds no pairs to keep: every mobile grain is searched.
+            let moving = if verlet.rebuilds > 0 {
+                &this.dormancy.awake
             } else {
-                verlet.rebuild(
-                    &g.position,
-                    &g.angle,
-                    &this.reach,
-                    &this.mobile,
-                    &this.walls,
-                    this.skin,
-                    near,
-                );
-            }
+                &this.mobile
+            };
+            verlet.rebuild_around_awake(
+                &old_pairs,
+                &old_wall_pairs,
+                &g.position,
+                &g.angle,
+                &this.reach,
+                moving,
+                &this.walls,
+                this.skin,
+                near,
+            );
         }
         self.verlet = verlet;
         self.dormancy.woken = false;
