@@ -1,6 +1,6 @@
 //! A world written mid-pour and read back continues with the same bits as the original.
 
-use sim::{ContactLaw, GrainState, SleepSettings, Vec2, Wall, World};
+use sim::{ContactLaw, GrainState, SleepSettings, Vec2, World};
 
 use super::common::*;
 
@@ -8,11 +8,7 @@ use super::common::*;
 fn pour() -> World {
     let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), Some(1e-5));
     let width = 0.09;
-    add_floor(&mut w);
-    w.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))
-        .unwrap();
-    w.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))
-        .unwrap();
+    add_box(&mut w, width);
     let square = add_square(&mut w);
     let rod = w.add_shape(rod(), ROD_DENSITY).unwrap();
     let pitch = 0.0105;

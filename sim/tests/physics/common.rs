@@ -30,6 +30,36 @@ pub fn world(law: ContactLaw, gravity: Vec2, dt: Option<f64>) -> World {
     .unwrap()
 }
 
+/// A floor at y = 0 and side walls at x = 0 and x = `width`; returns the floor's index.
+pub fn add_box(world: &mut World, width: f64) -> usize {
+    let floor = add_floor(world);
+    world
+        .add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))
+        .unwrap();
+    world
+        .add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))
+        .unwrap();
+    floor
+}
+
+/// Runs `scene` on a pool of `threads` threads.
+pub fn on_threads<T: Send>(threads: usize, scene: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(scene)
+}
+
+/// The next number in [0, 1) of a 64-bit linear congruential stream (reproducible scenes
+/// without a dependency).
+pub fn uniform(seed: &mut u64) -> f64 {
+    *seed = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*seed >> 11) as f64 / (1u64 << 53) as f64
+}
+
 /// A floor at y = 0; returns its wall index.
 pub fn add_floor(world: &mut World) -> usize {
     world

@@ -1,18 +1,14 @@
 //! The contact table (normals and points found again from the placed cores) accounts for the
 //! whole force on every grain: summed with gravity it gives the force the step integrated.
 
-use sim::{Body, ContactLaw, Vec2, Wall};
+use sim::{Body, ContactLaw, Vec2};
 
 use super::common::*;
 
 #[test]
 fn contact_records_add_up_to_each_grains_force() {
     let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), Some(1e-5));
-    add_floor(&mut w);
-    w.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))
-        .unwrap();
-    w.add_wall(Wall::new(Vec2::new(10.0 * SIDE, 0.0), Vec2::new(-1.0, 0.0)))
-        .unwrap();
+    add_box(&mut w, 10.0 * SIDE);
     let square = add_square(&mut w);
     let rod = w.add_shape(rod(), ROD_DENSITY).unwrap();
     for k in 0..120 {

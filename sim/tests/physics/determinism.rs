@@ -1,6 +1,6 @@
 //! Test 8: a 500-grain pour gives bit-identical states with 1 and 2 threads.
 
-use sim::{ContactLaw, GrainState, Vec2, Wall, World};
+use sim::{ContactLaw, GrainState, Vec2, World};
 
 use super::common::*;
 
@@ -8,20 +8,11 @@ fn pour() -> World {
     // dt = 1e-5 s, so the 10 000 steps cover 0.1 s of a lively pour.
     let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), Some(1e-5));
     let width = 0.12;
-    add_floor(&mut w);
-    w.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))
-        .unwrap();
-    w.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))
-        .unwrap();
+    add_box(&mut w, width);
     let square = add_square(&mut w);
     let rod = w.add_shape(rod(), ROD_DENSITY).unwrap();
     let mut seed = 99u64;
-    let mut random = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut random = || uniform(&mut seed);
     let pitch = 0.0105;
     let columns = (width / pitch) as usize;
     for k in 0..500 {
@@ -59,14 +50,7 @@ fn fingerprint(w: &World) -> Vec<u64> {
 
 #[test]
 fn one_and_two_threads_give_identical_bits() {
-    let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(pour)
-    };
-    let (one, two) = (run(1), run(2));
+    let (one, two) = (on_threads(1, pour), on_threads(2, pour));
     // The pour really moved and collided.
     assert!(
         one.contacts().count() > 200,

@@ -81,12 +81,7 @@ fn bouncing_box(dt: Option<f64>, grains: usize, first_shape: usize) -> (f64, f64
     let square = add_square(&mut w);
     let rod = w.add_shape(rod(), ROD_DENSITY).unwrap();
     let mut seed = 7u64;
-    let mut random = || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-    };
+    let mut random = || uniform(&mut seed) - 0.5;
     for k in 0..grains {
         let (row, col) = (k / 4, k % 4);
         let shape = if (k + first_shape) % 2 == 0 {

@@ -1,7 +1,7 @@
 //! Sleeping grains: a deposit at rest falls asleep, a grain landing on it wakes what it
 //! disturbs, and waking everything gives back the exact static balance.
 
-use sim::{ContactLaw, SleepSettings, Vec2, Wall, World};
+use sim::{ContactLaw, SleepSettings, Vec2, World};
 
 use super::common::*;
 
@@ -87,12 +87,7 @@ fn a_grain_landing_on_a_sleeping_column_wakes_it_and_the_balance_comes_back() {
 fn sleeping_grains_give_identical_bits_on_one_and_two_threads() {
     let pour = || {
         let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), Some(1e-5));
-        add_floor(&mut w);
-        let width = 12.0 * SIDE;
-        w.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))
-            .unwrap();
-        w.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))
-            .unwrap();
+        add_box(&mut w, 12.0 * SIDE);
         let square = add_square(&mut w);
         for k in 0..150 {
             let (row, col) = (k / 8, k % 8);
@@ -104,14 +99,7 @@ fn sleeping_grains_give_identical_bits_on_one_and_two_threads() {
         settle(&mut w, 0.6);
         w
     };
-    let run = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(pour)
-    };
-    let (one, two) = (run(1), run(2));
+    let (one, two) = (on_threads(1, pour), on_threads(2, pour));
     // Most of the pile is at rest after 0.6 s.
     assert!(
         one.sleeping() > 75,
