@@ -160,6 +160,7 @@ fn a_tiny_bench_writes_every_output() {
         max_relaxation_time_s: 1.0,
         measure: MeasureInput::default(),
         out: out.path().to_path_buf(),
+        reuse: false,
     };
     assert_eq!(fill::total_runs(&config), 4);
     let done = std::sync::atomic::AtomicUsize::new(0);
@@ -188,6 +189,30 @@ fn a_tiny_bench_writes_every_output() {
     for (a, b) in report.rows.iter().zip(&serial.rows) {
         assert_eq!(a.measures, b.measures, "{} {}", a.scene, a.setting);
         assert_eq!(a.deviations, b.deviations, "{} {}", a.scene, a.setting);
+    }
+    // Run again with reuse: nothing is simulated (the deposits keep their times of change),
+    // and the report is the same, recorded times included.
+    let deposit = out
+        .path()
+        .join("runs/square-phi0p25/n25/seed-1/deposit.csv");
+    let modified = std::fs::metadata(&deposit).unwrap().modified().unwrap();
+    let reused = fill::run_bench(
+        &BenchConfig {
+            reuse: true,
+            ..config.clone()
+        },
+        &|_, _, _| {},
+    )
+    .unwrap();
+    assert_eq!(
+        std::fs::metadata(&deposit).unwrap().modified().unwrap(),
+        modified
+    );
+    for (a, b) in report.rows.iter().zip(&reused.rows) {
+        assert_eq!(a.measures, b.measures);
+        // JSON keeps the recorded times to the last digit or so.
+        assert!((a.wall_s - b.wall_s).abs() <= 1e-12 * a.wall_s);
+        assert!((a.cpu_s - b.cpu_s).abs() <= 1e-12 * a.cpu_s);
     }
     let written = fill::write_all(out.path(), &report).unwrap();
     for path in &written {

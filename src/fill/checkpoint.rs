@@ -147,6 +147,11 @@ impl Checkpoint {
         self.header.seed
     }
 
+    /// The world as it stood (for diagnostics; a run continues it with `--resume`).
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
     /// Simulated time (s) and steps done at the checkpoint.
     pub fn progress(&self) -> (f64, u64) {
         (self.world.time(), self.world.steps())

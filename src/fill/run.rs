@@ -233,6 +233,9 @@ pub fn fill_with(
                     if scene.model.wake_to_relax && world.sleep_settings().is_some() {
                         silo.world.set_sleep(None)?;
                     }
+                    if silo.world.drag() != scene.model.relaxation_drag_per_s {
+                        silo.world.set_drag(scene.model.relaxation_drag_per_s)?;
+                    }
                     let world = &silo.world;
                     let e = world.energies();
                     let window = &mut st.window;

@@ -279,13 +279,21 @@ pub struct ModelSection {
     /// only grains in free flight: a deposit under a rain of grains rings, and its grains are
     /// rarely in balance) ...
     pub sleep_force_fraction: f64,
-    /// ... for this long (s).
+    /// ... and its centre and corners within this distance of where they stood when the
+    /// stretch began (mm) ...
+    pub sleep_drift_mm: f64,
+    /// ... for this long (s). `inf` turns any of the three criteria off.
     pub sleep_quiet_time_s: f64,
     /// A sleeping grain wakes when its net force has changed by this fraction of its weight.
     pub wake_force_fraction: f64,
     /// After the last grain is in, wake every grain and relax with all of them integrated
     /// (true), or let the deposit finish relaxing with sleep on (false).
     pub wake_to_relax: bool,
+    /// After the last grain is in, grains touching something lose their velocity at this rate
+    /// (1/s) on top of the contact law's damping (0: none). The contact law hardly damps a
+    /// deposit's low modes, so a pile rings for seconds; the drag stops the ringing without
+    /// moving where the grains come to rest.
+    pub relaxation_drag_per_s: f64,
 }
 
 impl Default for ModelSection {
@@ -296,9 +304,11 @@ impl Default for ModelSection {
             sleep: false,
             sleep_speed_m_s: s.speed,
             sleep_force_fraction: s.force_fraction,
+            sleep_drift_mm: s.drift * 1e3,
             sleep_quiet_time_s: s.quiet_time,
             wake_force_fraction: s.wake_fraction,
             wake_to_relax: true,
+            relaxation_drag_per_s: 0.0,
         }
     }
 }
@@ -308,6 +318,7 @@ impl ModelSection {
         self.sleep.then(|| sim::SleepSettings {
             speed: self.sleep_speed_m_s,
             force_fraction: self.sleep_force_fraction,
+            drift: self.sleep_drift_mm * 1e-3,
             quiet_time: self.sleep_quiet_time_s,
             wake_fraction: self.wake_force_fraction,
             ..sim::SleepSettings::default()

@@ -44,6 +44,19 @@ fn non_negative(
     }
 }
 
+/// A threshold that `inf` turns off.
+fn criterion(section: &'static str, key: &'static str, v: f64, unit: &str) -> Result<(), Invalid> {
+    if v >= 0.0 {
+        Ok(())
+    } else {
+        Err(invalid(
+            section,
+            key,
+            format!("is {v}, expected a number >= 0 ({unit}), or inf to turn it off"),
+        ))
+    }
+}
+
 /// Checks every number of a parsed scene, and the geometry they make together.
 pub fn validate(s: &Scene) -> Result<(), Invalid> {
     positive("silo", "width_mm", s.silo.width_mm, "mm")?;
@@ -159,19 +172,26 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
         m.steps_per_collision,
         "steps",
     )?;
-    non_negative("model", "sleep_speed_m_s", m.sleep_speed_m_s, "m/s")?;
-    non_negative(
+    criterion("model", "sleep_speed_m_s", m.sleep_speed_m_s, "m/s")?;
+    criterion(
         "model",
         "sleep_force_fraction",
         m.sleep_force_fraction,
         "fraction",
     )?;
+    criterion("model", "sleep_drift_mm", m.sleep_drift_mm, "mm")?;
     non_negative("model", "sleep_quiet_time_s", m.sleep_quiet_time_s, "s")?;
-    non_negative(
+    criterion(
         "model",
         "wake_force_fraction",
         m.wake_force_fraction,
         "fraction",
+    )?;
+    non_negative(
+        "model",
+        "relaxation_drag_per_s",
+        m.relaxation_drag_per_s,
+        "1/s",
     )?;
     if let Some(dt) = r.time_step_s {
         positive("run", "time_step_s", dt, "s")?;

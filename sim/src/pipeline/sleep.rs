@@ -24,7 +24,12 @@ pub struct SleepSettings {
     /// ... and its net force is below this fraction of its weight (its net torque below this
     /// fraction of weight times arm; 1 excludes only grains in free flight) ...
     pub force_fraction: f64,
-    /// ... without interruption for this long (s).
+    /// ... and neither its centre nor its farthest vertex strays farther than this (m) from
+    /// where they stood when the quiet stretch began ...
+    pub drift: f64,
+    /// ... without interruption for this long (s). Any criterion set to infinity is off: a
+    /// deposit under a rain of grains trembles (cm/s, forces of several weights) while its
+    /// grains stay within microns of their places, which only the drift criterion sees.
     pub quiet_time: f64,
     /// A sleeping grain touching an awake one wakes when its net force has changed since it
     /// fell asleep by more than this fraction of its weight (or its torque by this fraction of
@@ -39,6 +44,7 @@ impl Default for SleepSettings {
         Self {
             speed: 2e-3,
             force_fraction: 1.0,
+            drift: f64::INFINITY,
             quiet_time: 5e-3,
             wake_fraction: 0.2,
             check_interval: 1e-3,
@@ -48,22 +54,35 @@ impl Default for SleepSettings {
 
 impl SleepSettings {
     pub fn validate(&self) -> Result<(), SimError> {
-        let checks: [(&'static str, f64, &'static str); 5] = [
+        // The criteria may be off (infinite).
+        let criteria: [(&'static str, f64, &'static str); 4] = [
             ("sleep.speed", self.speed, "expected a speed >= 0 in m/s"),
             (
                 "sleep.force_fraction",
                 self.force_fraction,
                 "expected a fraction of the weight >= 0",
             ),
-            (
-                "sleep.quiet_time",
-                self.quiet_time,
-                "expected a time >= 0 in s",
-            ),
+            ("sleep.drift", self.drift, "expected a distance >= 0 in m"),
             (
                 "sleep.wake_fraction",
                 self.wake_fraction,
                 "expected a fraction of the weight >= 0",
+            ),
+        ];
+        for (field, value, expected) in criteria {
+            if value.is_nan() || value < 0.0 {
+                return Err(SimError::BadParameter {
+                    field,
+                    value,
+                    expected,
+                });
+            }
+        }
+        let checks: [(&'static str, f64, &'static str); 2] = [
+            (
+                "sleep.quiet_time",
+                self.quiet_time,
+                "expected a time >= 0 in s",
             ),
             (
                 "sleep.check_interval",
@@ -96,17 +115,20 @@ pub(crate) struct Dormancy {
     pub watched: Vec<bool>,
     /// Net force and torque when the grain fell asleep.
     pub asleep_load: Vec<(Vec2, f64)>,
+    /// Position and angle at the start of the grain's quiet stretch.
+    pub anchor: Vec<(Vec2, f64)>,
     /// A grain woke since the last Verlet rebuild: pairs between it and other sleeping grains
     /// were not searched, so the list must be rebuilt.
     pub woken: bool,
 }
 
 impl Dormancy {
-    pub fn push(&mut self, mobile: bool) {
+    pub fn push(&mut self, mobile: bool, position: Vec2, angle: f64) {
         self.awake.push(mobile);
         self.quiet_steps.push(0);
         self.watched.push(false);
         self.asleep_load.push((Vec2::zeros(), 0.0));
+        self.anchor.push((position, angle));
     }
 }
 
@@ -138,6 +160,7 @@ impl World {
             }
             d.quiet_steps[i] = 0;
             d.watched[i] = false;
+            d.anchor[i] = (self.grains.position[i], self.grains.angle[i]);
         }
     }
 
@@ -223,32 +246,37 @@ impl World {
                 d.awake[i] = true;
                 d.watched[i] = false;
                 d.quiet_steps[i] = 0;
+                d.anchor[i] = (g.position[i], g.angle[i]);
                 d.woken = true;
             }
         }
     }
 
     /// After the velocities are final for the step: counts the steps each awake grain has
-    /// been quiet.
+    /// been quiet; a grain that is not starts its stretch again from where it stands.
     pub(crate) fn count_quiet(&mut self) {
         let Some(s) = self.dormancy.settings else {
             return;
         };
         let gravity = self.settings.gravity.norm();
         let (g, d) = (&self.grains, &mut self.dormancy);
-        for (i, (quiet_steps, &arm)) in d.quiet_steps.iter_mut().zip(&self.arm).enumerate() {
+        let grains = d.quiet_steps.iter_mut().zip(&mut d.anchor).zip(&self.arm);
+        for (i, ((quiet_steps, anchor), &arm)) in grains.enumerate() {
             if !d.awake[i] {
                 continue;
             }
             let limit = s.force_fraction * g.mass[i] * gravity;
+            let (x, theta) = (g.position[i], g.angle[i]);
             let quiet = g.velocity[i].norm() + arm * g.angular_velocity[i].abs() < s.speed
                 && g.force[i].norm() < limit
-                && g.torque[i].abs() < limit * arm;
-            *quiet_steps = if quiet {
-                quiet_steps.saturating_add(1)
+                && g.torque[i].abs() < limit * arm
+                && (x - anchor.0).norm() + arm * (theta - anchor.1).abs() < s.drift;
+            if quiet {
+                *quiet_steps = quiet_steps.saturating_add(1);
             } else {
-                0
-            };
+                *quiet_steps = 0;
+                *anchor = (x, theta);
+            }
         }
     }
 }

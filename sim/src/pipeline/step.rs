@@ -90,20 +90,29 @@ impl World {
         Ok(self.serial_pool.clone().expect("made above"))
     }
 
-    /// The second half kick: v += a dt/2 (sleeping grains stay at rest).
+    /// The second half kick: v += a dt/2, after the drag's decay (sleeping grains stay at
+    /// rest).
     fn kick(&mut self, kick: f64) {
+        let decay = self.drag_decay(kick);
+        let gravity = self.settings.gravity;
         let (g, awake) = (&mut self.grains, &self.dormancy.awake);
         (&mut g.velocity, &mut g.angular_velocity)
             .into_par_iter()
             .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
-            .zip(awake)
+            .zip((&g.mass, awake))
             .with_min_len(self.min_len)
-            .for_each(|(((v, w), (f, t, im, ii)), &awake)| {
+            .for_each(|(((v, w), (f, t, im, ii)), (&m, &awake))| {
                 if awake {
-                    *v += f * (im * kick);
-                    *w += t * ii * kick;
+                    let d = drag_factor(decay, *f, *t, gravity * m);
+                    *v = *v * d + f * (im * kick);
+                    *w = *w * d + t * ii * kick;
                 }
             });
+    }
+
+    /// The drag's velocity factor over `time` (exactly 1 without drag).
+    fn drag_decay(&self, time: f64) -> f64 {
+        (-self.drag * time).exp()
     }
 
     /// One pass over the grains: first half kick, drift, the cores placed at the new
@@ -116,11 +125,14 @@ impl World {
         }
         let (reference, reference_angles) = self.verlet.reference();
         let fresh = reference.len() == self.grains.len();
+        let decay = self.drag_decay(dt / 2.0);
+        let gravity = self.settings.gravity;
         let (shapes, arm, awake) = (&self.shapes, &self.arm, &self.dormancy.awake);
         let g = &mut self.grains;
-        let (force, torque, inverse_mass, inverse_inertia, shape) = (
+        let (force, torque, mass, inverse_mass, inverse_inertia, shape) = (
             &g.force,
             &g.torque,
+            &g.mass,
             &g.inverse_mass,
             &g.inverse_inertia,
             &g.shape,
@@ -142,8 +154,9 @@ impl World {
                 if !awake[i] {
                     return !fresh;
                 }
-                *v += force[i] * (inverse_mass[i] * dt / 2.0);
-                *w += torque[i] * inverse_inertia[i] * dt / 2.0;
+                let d = drag_factor(decay, force[i], torque[i], gravity * mass[i]);
+                *v = *v * d + force[i] * (inverse_mass[i] * dt / 2.0);
+                *w = *w * d + torque[i] * inverse_inertia[i] * dt / 2.0;
                 *x += *v * dt;
                 let turn = *w * dt;
                 *theta += turn;
@@ -461,6 +474,17 @@ fn rotate_by((cos, sin): (f64, f64), turn: f64) -> (f64, f64) {
         turn.sin_cos()
     };
     (cos * c - sin * s, sin * c + cos * s)
+}
+
+/// The drag's factor for a grain: `decay` when something touches it, 1 in free flight (only
+/// gravity acts: the gathered force is exactly its weight and there is no torque).
+#[inline]
+fn drag_factor(decay: f64, force: Vec2, torque: f64, weight: Vec2) -> f64 {
+    if force == weight && torque == 0.0 {
+        1.0
+    } else {
+        decay
+    }
 }
 
 #[cfg(test)]

@@ -5,6 +5,7 @@ mod collisions;
 mod common;
 mod contact_table;
 mod determinism;
+mod drag;
 mod energy;
 mod impacts;
 mod inputs;

@@ -116,3 +116,39 @@ fn sleeping_grains_give_identical_bits_on_one_and_two_threads() {
     };
     assert_eq!(bits(&one), bits(&two));
 }
+
+#[test]
+fn a_trembling_column_sleeps_by_drift_and_not_by_speed() {
+    // A column 20 um per layer above its equilibrium rings at cm/s with forces of several
+    // weights: the speed criterion never lets it sleep, the drift criterion does.
+    let n = 10;
+    let trembling = |settings: SleepSettings| {
+        let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
+        add_floor(&mut w);
+        let square = add_square(&mut w);
+        stack_at_equilibrium(&mut w, square, n, 10.0);
+        for i in 0..n {
+            let mut g = w.grain(i);
+            g.position.y += 20e-6 * (i + 1) as f64;
+            w.set_grain(i, g);
+        }
+        w.set_sleep(Some(settings)).unwrap();
+        settle(&mut w, 0.05);
+        w.sleeping()
+    };
+    assert_eq!(trembling(SleepSettings::default()), 0);
+    let by_drift = SleepSettings {
+        speed: f64::INFINITY,
+        force_fraction: f64::INFINITY,
+        drift: 0.5e-3,
+        quiet_time: 0.02,
+        ..SleepSettings::default()
+    };
+    assert_eq!(trembling(by_drift), n);
+    // A drift below the trembling's amplitude keeps them awake.
+    let too_strict = SleepSettings {
+        drift: 1e-7,
+        ..by_drift
+    };
+    assert_eq!(trembling(too_strict), 0);
+}

@@ -2,6 +2,11 @@
 //! the same reference scenes and seeds as the paper-faithful one, and its ensemble is compared
 //! with the faithful ensemble.
 //!
+//! With `reuse`, a scene x setting whose K runs are already in the output folder, made by the
+//! same version from the same scene and seeds (`group.json`), is not run again: its times are
+//! the ones recorded. Adding a setting to a finished bench costs only the new setting's runs,
+//! as long as the engine has not changed in between (nothing can check that).
+//!
 //! For every scene x setting, the K seeds run in parallel (rayon over runs; each run is
 //! deterministic given scene and seed, so the deposits, and every deviation, do not depend on
 //! the thread count; only the times do). Times are those of the K runs together: wall time,
@@ -45,6 +50,7 @@ use serde::{Deserialize, Serialize};
 use super::engine::cpu_time;
 use crate::deposit::{Ensemble, LoadOptions, load_realisation};
 use crate::fill::{RunRecord, check_writable, fill};
+use crate::io::write_atomic;
 
 pub use deviation::{Deviations, WITHIN, deviations, l1, rms, scalar};
 pub use measures::{MeasureInput, Measures, PressureMeasure, RDF_R_MAX};
@@ -67,6 +73,8 @@ pub struct BenchConfig {
     pub measure: MeasureInput,
     /// Runs go to out/runs/SCENE/SETTING/seed-N/.
     pub out: PathBuf,
+    /// Keep finished groups of an earlier bench in `out` (see the module doc).
+    pub reuse: bool,
 }
 
 /// One scene x setting.
@@ -108,6 +116,72 @@ pub fn run_dir(out: &Path, scene: &str, setting: &str, seed: u64) -> PathBuf {
         .join(scene)
         .join(setting)
         .join(format!("seed-{seed}"))
+}
+
+/// A finished scene x setting, written after its last run: what it was run from, and the
+/// times of its runs together.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct GroupRecord {
+    facets_version: String,
+    /// The scene as run, written as TOML.
+    scene: String,
+    seeds: Vec<u64>,
+    wall_s: f64,
+    cpu_s: f64,
+}
+
+const GROUP_FILE: &str = "group.json";
+
+/// What the table needs of a run's record; read on its own from `run.json` (the scene inside
+/// a record may hold infinite thresholds, which JSON writes as null).
+#[derive(Clone, Debug, Deserialize)]
+struct RunOutcome {
+    seed: u64,
+    time_step_s: f64,
+    steps: u64,
+    relaxed: bool,
+    energies: crate::fill::EnergiesRecord,
+}
+
+impl From<RunRecord> for RunOutcome {
+    fn from(r: RunRecord) -> Self {
+        Self {
+            seed: r.seed,
+            time_step_s: r.time_step_s,
+            steps: r.steps,
+            relaxed: r.relaxed,
+            energies: r.energies,
+        }
+    }
+}
+
+/// The times of an earlier run of the same group, if every run of it is there.
+fn finished_group(
+    dir: &Path,
+    expected: &GroupRecord,
+    out: &Path,
+    scene: &str,
+    setting: &str,
+) -> Option<(f64, f64, Vec<RunOutcome>)> {
+    let text = std::fs::read_to_string(dir.join(GROUP_FILE)).ok()?;
+    let found: GroupRecord = serde_json::from_str(&text).ok()?;
+    let same = found.facets_version == expected.facets_version
+        && found.scene == expected.scene
+        && found.seeds == expected.seeds;
+    if !same {
+        return None;
+    }
+    let records = expected
+        .seeds
+        .iter()
+        .map(|&seed| {
+            let run = run_dir(out, scene, setting, seed);
+            let text = std::fs::read_to_string(run.join("run.json")).ok()?;
+            let record: RunOutcome = serde_json::from_str(&text).ok()?;
+            (record.seed == seed && run.join("deposit.csv").exists()).then_some(record)
+        })
+        .collect::<Option<Vec<_>>>()?;
+    Some((found.wall_s, found.cpu_s, records))
 }
 
 /// Runs every scene x setting x seed and measures the deviations; `done` is called after each
@@ -152,24 +226,56 @@ pub fn run_bench(
     }
     let mut rows: Vec<Row> = Vec::new();
     for (scene, setting, built) in &jobs {
-        let (cpu0, start) = (cpu_time(), Instant::now());
-        let records: Vec<anyhow::Result<RunRecord>> = seeds
-            .par_iter()
-            .map(|&seed| {
-                let dir = run_dir(&config.out, scene.name, setting.name, seed);
-                let record = fill(built, seed, &dir, &mut |_| {}).with_context(|| {
-                    format!(
-                        "scene {}, setting {}, seed {seed}",
-                        scene.name, setting.name
-                    )
-                });
-                done(scene.name, setting.name, seed);
-                record
-            })
-            .collect();
-        let wall_s = start.elapsed().as_secs_f64();
-        let cpu_s = cpu_time() - cpu0;
-        let records = records.into_iter().collect::<anyhow::Result<Vec<_>>>()?;
+        let group_dir = config.out.join("runs").join(scene.name).join(setting.name);
+        let mut group = GroupRecord {
+            facets_version: env!("CARGO_PKG_VERSION").to_string(),
+            scene: toml::to_string(built).context("cannot write a bench scene as TOML")?,
+            seeds: seeds.clone(),
+            wall_s: 0.0,
+            cpu_s: 0.0,
+        };
+        let earlier = config
+            .reuse
+            .then(|| finished_group(&group_dir, &group, &config.out, scene.name, setting.name))
+            .flatten();
+        let (wall_s, cpu_s, records) = match earlier {
+            Some(done_before) => {
+                for &seed in &seeds {
+                    done(scene.name, setting.name, seed);
+                }
+                done_before
+            }
+            None => {
+                // A group interrupted half-way must not pass for finished.
+                let _ = std::fs::remove_file(group_dir.join(GROUP_FILE));
+                let (cpu0, start) = (cpu_time(), Instant::now());
+                let records: Vec<anyhow::Result<RunRecord>> = seeds
+                    .par_iter()
+                    .map(|&seed| {
+                        let dir = run_dir(&config.out, scene.name, setting.name, seed);
+                        let record = fill(built, seed, &dir, &mut |_| {}).with_context(|| {
+                            format!(
+                                "scene {}, setting {}, seed {seed}",
+                                scene.name, setting.name
+                            )
+                        });
+                        done(scene.name, setting.name, seed);
+                        record
+                    })
+                    .collect();
+                group.wall_s = start.elapsed().as_secs_f64();
+                group.cpu_s = cpu_time() - cpu0;
+                let records = records
+                    .into_iter()
+                    .map(|r| r.map(RunOutcome::from))
+                    .collect::<anyhow::Result<Vec<_>>>()?;
+                write_atomic(&group_dir.join(GROUP_FILE), |w| {
+                    serde_json::to_writer_pretty(&mut *w, &group)?;
+                    Ok(())
+                })?;
+                (group.wall_s, group.cpu_s, records)
+            }
+        };
         let realisations = seeds
             .iter()
             .map(|&seed| {

@@ -15,8 +15,23 @@ pub struct Setting {
     pub sleep: bool,
     /// Speed below which a grain may fall asleep (m/s); None: the engine's default.
     pub sleep_speed_m_s: Option<f64>,
+    /// Sleep by drift instead: a grain whose centre and corners stay within this distance
+    /// (mm) for `DRIFT_QUIET_TIME_S` falls asleep, whatever its speed and force, and wakes when
+    /// its force changes by `DRIFT_WAKE_FRACTION` of its weight.
+    pub sleep_drift_mm: Option<f64>,
+    /// Drag on touching grains once the last grain is in (1/s; 0: none).
+    pub relaxation_drag_per_s: f64,
     pub insertion: Insertion,
 }
+
+/// Quiet stretch of the drift-sleep settings (s): several periods of a deposit's ringing.
+pub const DRIFT_QUIET_TIME_S: f64 = 0.02;
+/// Wake threshold of the drift-sleep settings (fraction of the weight): above the force
+/// swings of a ringing deposit's neighbours, below an impact's.
+pub const DRIFT_WAKE_FRACTION: f64 = 5.0;
+/// Drag of the drag settings (1/s): a ringing mode loses its energy as exp(-200 t), so
+/// kinetic / elastic falls by 1e4 in about 50 ms.
+pub const RELAXATION_DRAG_PER_S: f64 = 200.0;
 
 /// The setting every other is measured against.
 pub const REFERENCE: &str = "faithful";
@@ -29,12 +44,29 @@ const fn stepped(name: &'static str, what: &'static str, n: f64, sleep: bool) ->
         steps_per_collision: n,
         sleep,
         sleep_speed_m_s: None,
+        sleep_drift_mm: None,
+        relaxation_drag_per_s: 0.0,
+        insertion: Insertion::Surface,
+    }
+}
+
+/// dt = t_c / n, drag during relaxation, and sleep by a drift of `drift_mm` if some.
+const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Option<f64>) -> Setting {
+    Setting {
+        name,
+        what,
+        time_step_s: None,
+        steps_per_collision: n,
+        sleep: drift_mm.is_some(),
+        sleep_speed_m_s: None,
+        sleep_drift_mm: drift_mm,
+        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
         insertion: Insertion::Surface,
     }
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 9] = [
+pub const SETTINGS: [Setting; 14] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
@@ -42,6 +74,8 @@ pub const SETTINGS: [Setting; 9] = [
         steps_per_collision: 400.0,
         sleep: false,
         sleep_speed_m_s: None,
+        sleep_drift_mm: None,
+        relaxation_drag_per_s: 0.0,
         insertion: Insertion::Surface,
     },
     stepped("n400", "dt = t_c / 400, sleep off", 400.0, false),
@@ -67,6 +101,8 @@ pub const SETTINGS: [Setting; 9] = [
         steps_per_collision: 50.0,
         sleep: false,
         sleep_speed_m_s: None,
+        sleep_drift_mm: None,
+        relaxation_drag_per_s: 0.0,
         insertion: Insertion::Fixed,
     },
     Setting {
@@ -76,8 +112,35 @@ pub const SETTINGS: [Setting; 9] = [
         steps_per_collision: 25.0,
         sleep: true,
         sleep_speed_m_s: Some(0.01),
+        sleep_drift_mm: None,
+        relaxation_drag_per_s: 0.0,
         insertion: Insertion::Surface,
     },
+    stepped("n12", "dt = t_c / 12, sleep off", 12.0, false),
+    dragged(
+        "n25-drag",
+        "dt = t_c / 25, drag 200/s on touching grains after the last grain is in",
+        25.0,
+        None,
+    ),
+    dragged(
+        "n12-drag",
+        "dt = t_c / 12, drag 200/s on touching grains after the last grain is in",
+        12.0,
+        None,
+    ),
+    dragged(
+        "n25-drift-drag",
+        "n25-drag, and grains staying within 0.05 mm for 20 ms sleep (wake at 5 weights)",
+        25.0,
+        Some(0.05),
+    ),
+    dragged(
+        "n12-drift-drag",
+        "n12-drag, and grains staying within 0.05 mm for 20 ms sleep (wake at 5 weights)",
+        12.0,
+        Some(0.05),
+    ),
 ];
 
 impl Setting {
@@ -102,8 +165,16 @@ impl Setting {
             steps_per_collision: self.steps_per_collision,
             sleep: self.sleep,
             sleep_speed_m_s: self.sleep_speed_m_s.unwrap_or(defaults.sleep_speed_m_s),
+            relaxation_drag_per_s: self.relaxation_drag_per_s,
             ..defaults
         };
+        if let Some(drift) = self.sleep_drift_mm {
+            s.model.sleep_drift_mm = drift;
+            s.model.sleep_speed_m_s = f64::INFINITY;
+            s.model.sleep_force_fraction = f64::INFINITY;
+            s.model.sleep_quiet_time_s = DRIFT_QUIET_TIME_S;
+            s.model.wake_force_fraction = DRIFT_WAKE_FRACTION;
+        }
         s.feed.insertion = self.insertion;
         s
     }

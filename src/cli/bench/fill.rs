@@ -51,6 +51,12 @@ pub struct Args {
     /// Output folder.
     #[arg(long, default_value = "bench-fill")]
     pub out: PathBuf,
+    /// Keep the groups (scene x setting) already in --out that were run by the same version
+    /// of facets from the same scene and seeds, with their recorded times, instead of running
+    /// them again: adding a setting to a finished bench then costs only its own runs. Only
+    /// valid while the engine has not changed since those runs.
+    #[arg(long)]
+    pub reuse: bool,
 }
 
 /// The names of the settings table, each with its description (shown by --help).
@@ -103,6 +109,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             ..MeasureInput::default()
         },
         out: args.out.clone(),
+        reuse: args.reuse,
     };
     let runs = fill::total_runs(&config);
     let progress = bar(runs, "runs");
