@@ -281,7 +281,8 @@ impl World {
         }
     }
 
-    #[inline]
+    // Called twice per pair and step: left out of line it costs a call and its bounds checks.
+    #[inline(always)]
     pub(crate) fn placed(&self, i: usize) -> PlacedCore<'_> {
         let shape = &self.shapes[self.grains.shape[i] as usize].shape;
         let a = i * self.stride;
