@@ -113,11 +113,10 @@ impl PairContact {
         let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
         // The histories, read aside so the new states are written in place: moving a whole
         // SmallVec in per pair and step costs more than this copy of a few (key, value).
-        let histories: SmallVec<[(Features, f64); 4]> = self
-            .subs
-            .iter()
-            .map(|s| (s.features, s.displacement))
-            .collect();
+        let mut histories: SmallVec<[(Features, f64); 4]> = SmallVec::new();
+        for s in &self.subs {
+            histories.push((s.features, s.displacement));
+        }
         self.subs.clear();
         let (mut force, mut torque_first, mut torque_second) = (Vec2::zeros(), 0.0, 0.0);
         for sc in found {
