@@ -111,14 +111,19 @@ impl PairContact {
             }
         }
         let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
-        let mut subs = SmallVec::new();
+        // The histories, read aside so the new states are written in place: moving a whole
+        // SmallVec in per pair and step costs more than this copy of a few (key, value).
+        let mut histories: SmallVec<[(Features, f64); 4]> = SmallVec::new();
+        for s in &self.subs {
+            histories.push((s.features, s.displacement));
+        }
+        self.subs.clear();
         let (mut force, mut torque_first, mut torque_second) = (Vec2::zeros(), 0.0, 0.0);
         for sc in found {
-            let history = self
-                .subs
+            let history = histories
                 .iter()
-                .find(|s| s.features == sc.features)
-                .map(|s| s.displacement);
+                .find(|(features, _)| *features == sc.features)
+                .map(|(_, displacement)| *displacement);
             let arm_first = sc.point - first.position;
             let arm_second = sc.point - second.position;
             let relative = first.velocity + cross_scalar(first.angular_velocity, arm_first)
@@ -143,7 +148,7 @@ impl PairContact {
             force += on_first;
             torque_first += cross(arm_first, on_first);
             torque_second -= cross(arm_second, on_first);
-            subs.push(SubContactState {
+            self.subs.push(SubContactState {
                 features: sc.features,
                 displacement: f.displacement,
                 overlap: sc.overlap,
@@ -151,7 +156,6 @@ impl PairContact {
                 tangential_force: f.tangential,
             });
         }
-        self.subs = subs;
         self.force = force;
         self.torque_first = torque_first;
         self.torque_second = torque_second;

@@ -31,10 +31,15 @@ impl World {
         if stale || sleep_due || self.dormancy.woken {
             self.rebuild_neighbours()?;
         }
-        self.compute_forces();
-        self.wake_disturbed();
-        self.kick(dt / 2.0);
-        self.count_quiet();
+        // With sleep off no grain wakes between the gather and the kick: the gather kicks
+        // each grain as soon as its force is summed, one pass over the grains fewer.
+        let kick_in_gather = self.dormancy.settings.is_none();
+        self.compute_forces(kick_in_gather.then_some(dt / 2.0));
+        if !kick_in_gather {
+            self.wake_disturbed();
+            self.kick(dt / 2.0);
+            self.count_quiet();
+        }
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -53,7 +58,7 @@ impl World {
         if !self.forces_ready {
             self.place_cores();
             self.rebuild_neighbours()?;
-            self.compute_forces();
+            self.compute_forces(None);
             self.forces_ready = true;
         }
         Ok(())
@@ -289,6 +294,8 @@ impl World {
         }
     }
 
+    // Called twice per pair and step: left out of line it costs a call and its bounds checks.
+    #[inline(always)]
     pub(crate) fn placed(&self, i: usize) -> PlacedCore<'_> {
         let shape = &self.shapes[self.grains.shape[i] as usize].shape;
         let a = i * self.stride;
@@ -303,6 +310,7 @@ impl World {
         }
     }
 
+    #[inline]
     fn kinematics(&self, i: usize) -> Kinematics {
         let g = &self.grains;
         Kinematics {
@@ -313,8 +321,10 @@ impl World {
         }
     }
 
-    /// Narrow phase and contact law for every pair and wall contact, then the sum per grain.
-    fn compute_forces(&mut self) {
+    /// Narrow phase and contact law for every pair and wall contact, then the sum per grain;
+    /// with `kick` (s), also the half kick v += a kick of each awake grain, once its force is
+    /// known.
+    fn compute_forces(&mut self, kick: Option<f64>) {
         let mut pair_contacts = std::mem::take(&mut self.pair_contacts);
         let mut wall_contacts = std::mem::take(&mut self.wall_contacts);
         // The gather below reads only these compact copies of each contact's push: they fit
@@ -326,54 +336,60 @@ impl World {
         {
             let this = &*self;
             let awake = &this.dormancy.awake;
-            pair_contacts
-                .par_iter_mut()
-                .zip(pair_push.par_iter_mut())
-                .zip(&this.verlet.pairs)
-                .with_min_len(this.min_len)
-                .for_each(|((contact, push), &[i, j])| {
-                    let (i, j) = (i as usize, j as usize);
-                    if !(awake[i] || awake[j]) {
-                        // Both at rest: the contact keeps the force it had.
+            // Pairs and walls side by side: one wait for both instead of one each.
+            let pairs = || {
+                pair_contacts
+                    .par_iter_mut()
+                    .zip(pair_push.par_iter_mut())
+                    .zip(&this.verlet.pairs)
+                    .with_min_len(this.min_len)
+                    .for_each(|((contact, push), &[i, j])| {
+                        let (i, j) = (i as usize, j as usize);
+                        if !(awake[i] || awake[j]) {
+                            // Both at rest: the contact keeps the force it had.
+                            *push = Push::of(contact);
+                            return;
+                        }
+                        let (first, second) = (this.placed(i), this.placed(j));
+                        let would_be = |f: Features| feature_overlap(&first, &second, f);
+                        let reach = this.reach[i] + this.reach[j];
+                        let g = &this.grains;
+                        if (g.position[i] - g.position[j]).norm_squared() >= reach * reach {
+                            contact.clear(&this.settings.law, would_be);
+                            *push = Push::default();
+                            return;
+                        }
+                        let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                        let previous = || contact.subs.iter().map(|s| s.features);
+                        core_core_sub_contacts(&first, &second, previous, &mut found);
+                        let kinematics = (this.kinematics(i), this.kinematics(j));
+                        resolve(contact, &found, kinematics, this, would_be);
                         *push = Push::of(contact);
-                        return;
-                    }
-                    let (first, second) = (this.placed(i), this.placed(j));
-                    let would_be = |f: Features| feature_overlap(&first, &second, f);
-                    let reach = this.reach[i] + this.reach[j];
-                    let g = &this.grains;
-                    if (g.position[i] - g.position[j]).norm_squared() >= reach * reach {
-                        contact.clear(&this.settings.law, would_be);
-                        *push = Push::default();
-                        return;
-                    }
-                    let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                    let previous = || contact.subs.iter().map(|s| s.features);
-                    core_core_sub_contacts(&first, &second, previous, &mut found);
-                    let kinematics = (this.kinematics(i), this.kinematics(j));
-                    resolve(contact, &found, kinematics, this, would_be);
-                    *push = Push::of(contact);
-                });
-            wall_contacts
-                .par_iter_mut()
-                .zip(wall_push.par_iter_mut())
-                .zip(&this.verlet.wall_pairs)
-                .with_min_len(this.min_len)
-                .for_each(|((contact, push), &[i, k])| {
-                    let (i, k) = (i as usize, k as usize);
-                    if !awake[i] {
-                        *push = Push::of(contact);
-                        return;
-                    }
-                    let (core, wall) = (this.placed(i), &this.walls[k]);
-                    let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
-                    core_wall_sub_contacts(&core, wall, &mut found);
-                    let kinematics = (this.kinematics(i), Kinematics::STATIC);
-                    resolve(contact, &found, kinematics, this, |f| {
-                        wall_feature_overlap(&core, wall, f)
                     });
-                    *push = Push::of(contact);
-                });
+            };
+            let walls = || {
+                wall_contacts
+                    .par_iter_mut()
+                    .zip(wall_push.par_iter_mut())
+                    .zip(&this.verlet.wall_pairs)
+                    .with_min_len(this.min_len)
+                    .for_each(|((contact, push), &[i, k])| {
+                        let (i, k) = (i as usize, k as usize);
+                        if !awake[i] {
+                            *push = Push::of(contact);
+                            return;
+                        }
+                        let (core, wall) = (this.placed(i), &this.walls[k]);
+                        let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
+                        core_wall_sub_contacts(&core, wall, &mut found);
+                        let kinematics = (this.kinematics(i), Kinematics::STATIC);
+                        resolve(contact, &found, kinematics, this, |f| {
+                            wall_feature_overlap(&core, wall, f)
+                        });
+                        *push = Push::of(contact);
+                    });
+            };
+            rayon::join(pairs, walls);
         }
         let gravity = self.settings.gravity;
         let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
@@ -382,13 +398,17 @@ impl World {
             force,
             torque,
             mass,
+            velocity,
+            angular_velocity,
+            inverse_mass,
+            inverse_inertia,
             ..
         } = &mut self.grains;
-        (force, torque)
+        (force, torque, velocity, angular_velocity)
             .into_par_iter()
             .with_min_len(self.min_len)
             .enumerate()
-            .for_each(|(i, (force, torque))| {
+            .for_each(|(i, (force, torque, v, w))| {
                 // A sleeping grain's forces change only through awake neighbours.
                 if mobile[i] && !(awake[i] || watched[i]) {
                     return;
@@ -415,6 +435,13 @@ impl World {
                 }
                 *force = f;
                 *torque = t;
+                // The same sums as `kick`, grain by grain.
+                if let Some(kick) = kick {
+                    if awake[i] {
+                        *v += f * (inverse_mass[i] * kick);
+                        *w += t * inverse_inertia[i] * kick;
+                    }
+                }
             });
         self.pair_contacts = pair_contacts;
         self.wall_contacts = wall_contacts;

@@ -103,8 +103,10 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
 fn nearer_end(core: &PlacedCore, e: usize, along: f64) -> usize {
     if along < core.lengths[e] / 2.0 {
         e
+    } else if e + 1 == core.len() {
+        0
     } else {
-        (e + 1) % core.len()
+        e + 1
     }
 }
 
