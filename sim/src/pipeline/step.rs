@@ -394,6 +394,7 @@ impl World {
         let gravity = self.settings.gravity;
         let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
         let (awake, watched) = (&self.dormancy.awake, &self.dormancy.watched);
+        let decay = self.drag_decay(kick.unwrap_or(0.0));
         let crate::dynamics::Grains {
             force,
             torque,
@@ -438,8 +439,9 @@ impl World {
                 // The same sums as `kick`, grain by grain.
                 if let Some(kick) = kick {
                     if awake[i] {
-                        *v += f * (inverse_mass[i] * kick);
-                        *w += t * inverse_inertia[i] * kick;
+                        let d = drag_factor(decay, f, t, gravity * mass[i]);
+                        *v = *v * d + f * (inverse_mass[i] * kick);
+                        *w = *w * d + t * inverse_inertia[i] * kick;
                     }
                 }
             });
