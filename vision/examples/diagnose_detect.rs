@@ -182,7 +182,10 @@ fn main() {
         .collect();
     let half = (2.0 * l * frame.scale) as i64;
     for (k, c) in centres.iter().enumerate() {
-        let (cx, cy) = ((c[0] * frame.scale) as i64, (rows - c[1] * frame.scale) as i64);
+        let (cx, cy) = (
+            (c[0] * frame.scale) as i64,
+            (rows - c[1] * frame.scale) as i64,
+        );
         let x0 = (cx - half).clamp(0, rgb.width() as i64 - 1);
         let y0 = (cy - half).clamp(0, rgb.height() as i64 - 1);
         let x1 = (cx + half).min(rgb.width() as i64);
@@ -196,7 +199,13 @@ fn main() {
         )
         .to_image();
         for t in &truth {
-            draw(&mut crop, &t.outline, Rgb([40, 90, 255]), x0 as f64, y0 as f64);
+            draw(
+                &mut crop,
+                &t.outline,
+                Rgb([40, 90, 255]),
+                x0 as f64,
+                y0 as f64,
+            );
         }
         for (j, d) in found.iter().enumerate() {
             let colour = if d_match[j].is_some() {
