@@ -1,5 +1,5 @@
 //! Rods in a dense disordered packing, rendered in the lab style: nearly every rod found once, at
-//! own angle. Before the detector scored each rod's axis highlight against the lines flanking
+//! its own angle. Before the detector scored each rod's axis highlight against the lines flanking
 //! it, short rods in such clusters were fitted across two neighbours or turned by 90 degrees.
 
 use vision::evaluate::bench::{shapes, truth_in_frame};
