@@ -83,6 +83,18 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         GrainShape::Square { .. } => Vec::new(),
     };
 
+    // The typical highlight's darkness: the axis of a fit counts no lighter than this.
+    let highlight_floor = {
+        let mut depths: Vec<f32> = axis_seeds.iter().map(|a| a.depth).collect();
+        if depths.is_empty() {
+            0.0
+        } else {
+            let mid = depths.len() / 2;
+            *depths.select_nth_unstable_by(mid, |a, b| a.total_cmp(b)).1
+        }
+    };
+    let fine_model = fine_model.with_highlight_floor(highlight_floor);
+    let coarse_model = coarse_model.with_highlight_floor(highlight_floor);
     let residual_step = (0.15 * width).max(f);
     let mut explained = Plane::new(dark.width, dark.height, 0.0);
     let mut free = dark.clone();

@@ -110,9 +110,20 @@ pub fn fit(
             .total as f64
     };
     let step = position_step.max(f);
+    // The coarse level barely resolves a rod's highlight: the finalists, climbed there,
+    // are compared at full resolution.
+    let fine_eval = |p: Pose| {
+        levels
+            .fine_model
+            .score(p, levels.fine, levels.fine_free)
+            .total as f64
+    };
     let winner = finalists
         .into_iter()
-        .map(|p| climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 2))
+        .map(|p| {
+            let (p, _) = climb(&coarse_eval, p, step, 0.5 * COARSE_ANGLE_STEP, 2);
+            (p, fine_eval(p))
+        })
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .expect("at least one pose is tried")
         .0;

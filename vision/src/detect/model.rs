@@ -17,7 +17,10 @@ const ROUNDING: f64 = 0.05;
 /// Relative weights of the cues; the interior term has weight 1.
 const RING_WEIGHT: f32 = 0.5;
 const HOLE_WEIGHT: f32 = 1.0;
-const HIGHLIGHT_WEIGHT: f32 = 2.0;
+/// The highlight is a contrast of a few percent (floored, see `Model::highlight_floor`) on a
+/// narrow line: it needs a large weight to count against the interior in dense clusters,
+/// where it is the only cue that tells one rod from two.
+const HIGHLIGHT_WEIGHT: f32 = 8.0;
 
 /// A pose in continuous pixel coordinates (column, row; row 0 at the top). `phi` is the
 /// frame angle (counter-clockwise with y up): the long axis points along (cos phi, -sin phi).
@@ -37,6 +40,8 @@ struct Geometry {
     hole_radius: f32,
     highlight_sigma: f32,
     highlight_half_length: f32,
+    /// Offset of the flanking lines the highlight is compared with (pixels).
+    highlight_flank: f32,
     /// Width of the anti-aliasing ramp of the outline (pixels).
     soft: f32,
     /// Width of the ring of field scored outside the outline (pixels).
@@ -62,8 +67,14 @@ pub struct Model {
     hole: Vec<Tap>,
     /// The field just outside the outline (and the outer half of its ramp): should be bright.
     ring: Vec<Tap>,
-    /// The faint highlight along a rod's axis: should be a little less dark.
+    /// The faint highlight along a rod's axis: should be a little less dark (positive
+    /// weights) than the lines flanking it (`flank`, negative weights).
     highlight: Vec<Tap>,
+    flank: Vec<Tap>,
+    /// Darkness below which the axis counts no lighter: a rod's own highlight is this light,
+    /// a gap of bright field between two grains much lighter, and without the floor an
+    /// outline laid along a gap would outscore the grains on either side of it.
+    highlight_floor: f32,
     /// Covered area of the whole outline (interior and hole), the denominator of `visible`.
     area: f32,
 }
@@ -115,8 +126,13 @@ impl Geometry {
         }
         let hc = self.hole_coverage(u, v);
         let highlight = if self.highlight_sigma > 0.0 && u.abs() < self.highlight_half_length {
+            // The axis line less the two flanking lines: a contrast, blind to how dark the
+            // grain is as a whole, that only a rod's own highlight gives. An outline laid
+            // across two rods, or along their seam, finds none.
             let s = self.highlight_sigma;
-            cov * (-v * v / (2.0 * s * s)).exp()
+            let f = self.highlight_flank;
+            let g = |d: f32| (-d * d / (2.0 * s * s)).exp();
+            cov * (g(v) - 0.5 * (g(v - f) + g(v + f)))
         } else {
             0.0
         };
@@ -145,7 +161,8 @@ impl Model {
         let width = shape.width() * px_per_m;
         let (hole_radius, highlight_sigma, highlight_half_length) = match shape {
             GrainShape::Square { hole_diameter, .. } => (0.5 * hole_diameter * px_per_m, 0.0, 0.0),
-            GrainShape::Rod { .. } => (0.0, (0.1 * width).max(0.5), 0.5 * (length - width)),
+            // The highlight runs the rod's whole length; its rounded corners take 0.05 D.
+            GrainShape::Rod { .. } => (0.0, (0.1 * width).max(0.5), 0.5 * length - 0.1 * width),
         };
         let geometry = Geometry {
             half_length: (0.5 * length) as f32,
@@ -154,6 +171,7 @@ impl Model {
             hole_radius: hole_radius as f32,
             highlight_sigma: highlight_sigma as f32,
             highlight_half_length: highlight_half_length.max(0.0) as f32,
+            highlight_flank: (0.3 * width) as f32,
             soft: soft as f32,
             ring: (0.08 * width).clamp(soft, 2.5 * soft) as f32,
         };
@@ -173,6 +191,8 @@ impl Model {
             hole: Vec::new(),
             ring: Vec::new(),
             highlight: Vec::new(),
+            flank: Vec::new(),
+            highlight_floor: 0.0,
             area: 0.0,
         };
         for bv in -blocks_v..blocks_v {
@@ -218,14 +238,22 @@ impl Model {
                         // The highlight's tails beyond three sigma carry nothing measurable.
                         (&mut model.highlight, highlight, 0.011 * a),
                     ] {
-                        if w > min {
+                        if w.abs() > min {
                             list.push(Tap { u, v, w });
                         }
                     }
                 }
             }
         }
+        let taps = std::mem::take(&mut model.highlight);
+        (model.highlight, model.flank) = taps.into_iter().partition(|t| t.w > 0.0);
         model
+    }
+
+    /// The model with the axis' darkness floored at `floor` (see `highlight_floor`).
+    pub fn with_highlight_floor(mut self, floor: f32) -> Self {
+        self.highlight_floor = floor;
+        self
     }
 
     pub fn half_width(&self) -> f32 {
@@ -254,7 +282,7 @@ impl Model {
             && px + ex + 1.0 < dark.width as f32
             && py + ey + 1.0 < dark.height as f32;
         // Sums of weight x darkness and of the weights, over the taps inside the photograph.
-        let sums = |taps: &[Tap], plane: &Plane| -> (f32, f32) {
+        let sums = |taps: &[Tap], plane: &Plane, floor: f32| -> (f32, f32) {
             let (mut s, mut n) = (0.0f32, 0.0f32);
             for t in taps {
                 let x = px + t.u * cos + t.v * sin;
@@ -267,15 +295,17 @@ impl Model {
                         None => continue,
                     }
                 };
-                s += t.w * d;
+                s += t.w * d.max(floor);
                 n += t.w;
             }
             (s, n)
         };
-        let (int_d, int_w) = sums(&self.interior, free);
-        let (hole_d, hole_w) = sums(&self.hole, dark);
-        let (ring_d, ring_w) = sums(&self.ring, dark);
-        let (hl_d, _) = sums(&self.highlight, dark);
+        let (int_d, int_w) = sums(&self.interior, free, 0.0);
+        let (hole_d, hole_w) = sums(&self.hole, dark, 0.0);
+        let (ring_d, ring_w) = sums(&self.ring, dark, 0.0);
+        let (axis_d, _) = sums(&self.highlight, dark, self.highlight_floor);
+        let (flank_d, _) = sums(&self.flank, dark, 0.0);
+        let hl_d = axis_d + flank_d;
         let inside = 2.0 * int_d - int_w;
         let hole = hole_w - 2.0 * hole_d;
         let ring = ring_w - 2.0 * ring_d;

@@ -17,6 +17,8 @@ pub struct AxisSeed {
     pub x: f64,
     pub y: f64,
     pub phi: f64,
+    /// Darkness of the smoothed photograph there: how light the highlight is.
+    pub depth: f32,
 }
 
 /// Minimum darkness on a highlight: it lies inside a grain.
@@ -42,7 +44,7 @@ pub fn axis_seeds(dark: &Plane, sigma: f64, length: f64, width: f64) -> Vec<Axis
         return Vec::new();
     }
     // Per pixel: strength (largest eigenvalue) and the across direction, or nothing.
-    let lines: Vec<Vec<(f32, usize, f32)>> = (1..h - 1)
+    let lines: Vec<Vec<(f32, usize, f32, f32)>> = (1..h - 1)
         .into_par_iter()
         .map(|r| {
             let mut row = Vec::new();
@@ -73,15 +75,15 @@ pub fn axis_seeds(dark: &Plane, sigma: f64, length: f64, width: f64) -> Vec<Axis
                 if d > at(oc, or) || d > at(-oc, -or) || sharp.data[i] < MIN_SHARP_DARKNESS {
                     continue;
                 }
-                row.push((big, c, across));
+                row.push((big, c, across, d));
             }
             row
         })
         .collect();
-    let mut points: Vec<(f32, usize, usize, f32)> = lines
+    let mut points: Vec<(f32, usize, usize, f32, f32)> = lines
         .into_iter()
         .enumerate()
-        .flat_map(|(k, row)| row.into_iter().map(move |(s, c, a)| (s, c, k + 1, a)))
+        .flat_map(|(k, row)| row.into_iter().map(move |(s, c, a, d)| (s, c, k + 1, a, d)))
         .collect();
     if points.is_empty() {
         return Vec::new();
@@ -101,7 +103,7 @@ pub fn axis_seeds(dark: &Plane, sigma: f64, length: f64, width: f64) -> Vec<Axis
     let cols = (w as f64 / cell).ceil() as usize + 1;
     let rows = (h as f64 / cell).ceil() as usize + 1;
     let mut grid: Vec<Vec<usize>> = vec![Vec::new(); cols * rows];
-    for (_, c, r, across) in points {
+    for (_, c, r, across, depth) in points {
         let (x, y) = (c as f64 + 0.5, r as f64 + 0.5);
         let (gc, gr) = ((x / cell) as usize, (y / cell) as usize);
         let mut near = false;
@@ -126,7 +128,7 @@ pub fn axis_seeds(dark: &Plane, sigma: f64, length: f64, width: f64) -> Vec<Axis
         }
         let phi = (-(across as f64) - std::f64::consts::FRAC_PI_2).rem_euclid(std::f64::consts::PI);
         grid[gr * cols + gc].push(seeds.len());
-        seeds.push(AxisSeed { x, y, phi });
+        seeds.push(AxisSeed { x, y, phi, depth });
     }
     seeds
 }

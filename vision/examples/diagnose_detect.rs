@@ -1,0 +1,226 @@
+//! Why grains are missed or mis-oriented: renders one benchmark photograph (or a smaller
+//! frame), detects, and classifies every miss, false detection and large angle error.
+//!
+//! `cargo run --release -p vision --example diagnose_detect -- rod3 disordered 10 lab 100 60 /tmp/diag`
+//! (shape, packing, px/mm, style, frame width and height in mm, output folder for crops).
+
+use std::time::Instant;
+
+use image::{Rgb, RgbImage};
+use imageproc::drawing::draw_line_segment_mut;
+use vision::evaluate::bench::{shapes, truth_in_frame};
+use vision::evaluate::matching::{angle_error, match_centres};
+use vision::packing::{Packing, generate};
+use vision::render::{Style, render};
+use vision::{DetectParams, Frame, GrainOutline, detect};
+
+fn main() {
+    let a: Vec<String> = std::env::args().collect();
+    let arg = |i: usize, d: &str| a.get(i).cloned().unwrap_or_else(|| d.to_string());
+    let shape_name = arg(1, "rod3");
+    let packing = if arg(2, "disordered") == "ordered" {
+        Packing::Ordered
+    } else {
+        Packing::Disordered
+    };
+    let px_per_mm: f64 = arg(3, "10").parse().expect("px/mm");
+    let style = Style::named(&arg(4, "lab")).expect("style");
+    let width_mm: f64 = arg(5, "100").parse().expect("width");
+    let height_mm: f64 = arg(6, "60").parse().expect("height");
+    let out = std::path::PathBuf::from(arg(7, "/tmp/diag"));
+    let seed: u64 = arg(8, "1").parse().expect("seed");
+    std::fs::create_dir_all(&out).expect("output folder");
+    let shape = shapes()
+        .into_iter()
+        .find(|(n, _)| *n == shape_name)
+        .expect("shape")
+        .1;
+    let frame = Frame {
+        width: width_mm * 1e-3,
+        height: height_mm * 1e-3,
+        scale: px_per_mm * 1e3,
+    };
+    let packed = generate(shape, packing, &frame, seed);
+    let photo = render(&packed.grains, &frame, &style, seed).to_image(16);
+    let params = DetectParams::new(shape, frame.scale);
+    let start = Instant::now();
+    let found = detect(&photo, &params).expect("detect");
+    let secs = start.elapsed().as_secs_f64();
+    let truth = truth_in_frame(&packed, &frame);
+    let tc: Vec<[f64; 2]> = truth.iter().map(|t| [t.outline.x, t.outline.y]).collect();
+    let dc: Vec<[f64; 2]> = found.iter().map(|d| [d.outline.x, d.outline.y]).collect();
+    let w = shape.width();
+    let pairs = match_centres(&tc, &dc, 0.5 * w);
+    let mut t_match = vec![None; truth.len()];
+    let mut d_match = vec![None; found.len()];
+    for p in &pairs {
+        t_match[p.truth] = Some(p.detection);
+        d_match[p.detection] = Some(p.truth);
+    }
+    let period = shape.symmetry_period();
+    let uncut = truth.iter().filter(|t| !t.cut).count();
+    let missed: Vec<usize> = (0..truth.len())
+        .filter(|&i| !truth[i].cut && t_match[i].is_none())
+        .collect();
+    let false_d: Vec<usize> = (0..found.len())
+        .filter(|&j| !found[j].cut && d_match[j].is_none())
+        .collect();
+    let mut sq = 0.0;
+    let mut n = 0;
+    let mut big_angle = Vec::new();
+    for p in &pairs {
+        if truth[p.truth].cut {
+            continue;
+        }
+        let e = angle_error(
+            found[p.detection].outline.theta,
+            truth[p.truth].outline.theta,
+            period,
+        );
+        sq += e * e;
+        n += 1;
+        if e.abs().to_degrees() > 3.0 {
+            big_angle.push((p.truth, p.detection, e.to_degrees()));
+        }
+    }
+    println!(
+        "{} px, {:.2} s: truth uncut {uncut}, detections {}, missed {}, false {}, angle RMS {:.2} deg, |err| > 3 deg: {}",
+        photo.width() * photo.height(),
+        secs,
+        found.len(),
+        missed.len(),
+        false_d.len(),
+        (sq / n as f64).sqrt().to_degrees(),
+        big_angle.len()
+    );
+    let near = |p: [f64; 2], list: &[[f64; 2]], r: f64| -> Vec<usize> {
+        (0..list.len())
+            .filter(|&k| (list[k][0] - p[0]).hypot(list[k][1] - p[1]) < r)
+            .collect()
+    };
+    let l = shape.length();
+    println!("-- missed (truth index: nearest detection distance/D, its angle error, its match)");
+    for &i in &missed {
+        let nd = near(tc[i], &dc, l);
+        let desc: Vec<String> = nd
+            .iter()
+            .map(|&j| {
+                let d = (dc[j][0] - tc[i][0]).hypot(dc[j][1] - tc[i][1]) / w;
+                let e = angle_error(found[j].outline.theta, truth[i].outline.theta, period)
+                    .to_degrees();
+                format!(
+                    "d{j}@{d:.2}D,{e:.0}deg,{}",
+                    match d_match[j] {
+                        Some(t) => format!("matched t{t}"),
+                        None => "false".into(),
+                    }
+                )
+            })
+            .collect();
+        println!(
+            "t{i} ({:.1},{:.1}) mm {:.0} deg: {}",
+            tc[i][0] * 1e3,
+            tc[i][1] * 1e3,
+            truth[i].outline.theta.to_degrees(),
+            desc.join("; ")
+        );
+    }
+    println!("-- false (detection: nearby truths and whether matched)");
+    for &j in &false_d {
+        let nt = near(dc[j], &tc, l);
+        let desc: Vec<String> = nt
+            .iter()
+            .map(|&i| {
+                let d = (dc[j][0] - tc[i][0]).hypot(dc[j][1] - tc[i][1]) / w;
+                let e = angle_error(found[j].outline.theta, truth[i].outline.theta, period)
+                    .to_degrees();
+                format!(
+                    "t{i}@{d:.2}D,{e:.0}deg,{}",
+                    if t_match[i].is_some() { "m" } else { "MISSED" }
+                )
+            })
+            .collect();
+        println!(
+            "d{j} ({:.1},{:.1}) conf {:.2}: {}",
+            dc[j][0] * 1e3,
+            dc[j][1] * 1e3,
+            found[j].confidence,
+            desc.join("; ")
+        );
+    }
+    println!("-- angle errors > 3 deg (truth, detection, error, centre error/D, confidence)");
+    for &(i, j, e) in &big_angle {
+        let d = (dc[j][0] - tc[i][0]).hypot(dc[j][1] - tc[i][1]) / w;
+        println!(
+            "t{i} d{j} ({:.1},{:.1}): {e:.1} deg, {d:.2} D, conf {:.2}",
+            tc[i][0] * 1e3,
+            tc[i][1] * 1e3,
+            found[j].confidence
+        );
+    }
+    // Crops around the first misses and false detections: truth blue, detections green
+    // (matched) or red (false).
+    let rgb = photo.to_rgb8();
+    let rows = rgb.height() as f64;
+    let draw = |img: &mut RgbImage, o: &GrainOutline, colour: Rgb<u8>, ox: f64, oy: f64| {
+        let s = frame.scale;
+        let (ha, hb) = (0.5 * o.shape.length() * s, 0.5 * o.shape.width() * s);
+        let (sn, cs) = o.theta.sin_cos();
+        let (px, py) = (o.x * s - ox, rows - o.y * s - oy);
+        let c = [(ha, hb), (-ha, hb), (-ha, -hb), (ha, -hb)]
+            .map(|(u, v)| ((px + u * cs + v * sn) as f32, (py - u * sn + v * cs) as f32));
+        for k in 0..4 {
+            draw_line_segment_mut(img, c[k], c[(k + 1) % 4], colour);
+        }
+    };
+    let centres: Vec<[f64; 2]> = missed
+        .iter()
+        .map(|&i| tc[i])
+        .chain(false_d.iter().map(|&j| dc[j]))
+        .chain(big_angle.iter().map(|&(i, _, _)| tc[i]))
+        .take(24)
+        .collect();
+    let half = (2.0 * l * frame.scale) as i64;
+    for (k, c) in centres.iter().enumerate() {
+        let (cx, cy) = (
+            (c[0] * frame.scale) as i64,
+            (rows - c[1] * frame.scale) as i64,
+        );
+        let x0 = (cx - half).clamp(0, rgb.width() as i64 - 1);
+        let y0 = (cy - half).clamp(0, rgb.height() as i64 - 1);
+        let x1 = (cx + half).min(rgb.width() as i64);
+        let y1 = (cy + half).min(rgb.height() as i64);
+        let mut crop = image::imageops::crop_imm(
+            &rgb,
+            x0 as u32,
+            y0 as u32,
+            (x1 - x0) as u32,
+            (y1 - y0) as u32,
+        )
+        .to_image();
+        for t in &truth {
+            draw(
+                &mut crop,
+                &t.outline,
+                Rgb([40, 90, 255]),
+                x0 as f64,
+                y0 as f64,
+            );
+        }
+        for (j, d) in found.iter().enumerate() {
+            let colour = if d_match[j].is_some() {
+                Rgb([0, 200, 60])
+            } else {
+                Rgb([255, 30, 30])
+            };
+            draw(&mut crop, &d.outline, colour, x0 as f64, y0 as f64);
+        }
+        let big = image::imageops::resize(
+            &crop,
+            crop.width() * 3,
+            crop.height() * 3,
+            image::imageops::FilterType::Nearest,
+        );
+        big.save(out.join(format!("case{k:02}.png"))).expect("save");
+    }
+}

@@ -1,0 +1,35 @@
+//! Rods in a dense disordered packing, rendered in the lab style: nearly every rod found once, at
+//! its own angle. Before the detector scored each rod's axis highlight against the lines flanking
+//! it, short rods in such clusters were fitted across two neighbours or turned by 90 degrees.
+
+use vision::evaluate::bench::{shapes, truth_in_frame};
+use vision::evaluate::score;
+use vision::packing::{Packing, generate};
+use vision::render::{Style, render};
+use vision::{DetectParams, Frame, detect};
+
+#[test]
+fn short_rods_in_a_disordered_packing() {
+    let shape = shapes()
+        .into_iter()
+        .find(|(n, _)| *n == "rod53")
+        .expect("rod53 is a benchmark shape")
+        .1;
+    let frame = Frame {
+        width: 0.045,
+        height: 0.035,
+        scale: 1e4,
+    };
+    let packed = generate(shape, Packing::Disordered, &frame, 3);
+    let photo = render(&packed.grains, &frame, &Style::lab(), 3).to_image(16);
+    let found = detect(&photo, &DetectParams::new(shape, frame.scale)).expect("detects");
+    let tally = score(&truth_in_frame(&packed, &frame), &found);
+    // About 70 whole rods. The benchmark's rod53 lab 10 px/mm figures were 91.7 % recall and
+    // 16 degrees before the highlight contrast, 98 % and 5 degrees after: the bounds sit
+    // between (the 99.5 % and 1 degree are not reached yet).
+    assert!(tally.truth_uncut > 50, "{tally:?}");
+    assert!(tally.recall() >= 0.95, "{tally:?}");
+    assert!(tally.precision() >= 0.95, "{tally:?}");
+    assert!(tally.centre_rms_mm() <= 0.2, "{tally:?}");
+    assert!(tally.orientation_rms_deg() <= 8.0, "{tally:?}");
+}
