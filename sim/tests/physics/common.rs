@@ -100,6 +100,23 @@ pub fn stack_at_equilibrium(w: &mut World, square: ShapeId, n: usize, gravity: f
     }
 }
 
+/// A column of `n` squares on the floor, each grain `lift` (m) per layer above its
+/// equilibrium (the top one n x lift), so that the column rings: it trembles at cm/s with
+/// forces of several weights while its grains stay within microns of their places. Returns
+/// the floor's wall index.
+pub fn ringing_column(n: usize, lift: f64) -> (World, usize) {
+    let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
+    let floor = add_floor(&mut w);
+    let square = add_square(&mut w);
+    stack_at_equilibrium(&mut w, square, n, 10.0);
+    for i in 0..n {
+        let mut g = w.grain(i);
+        g.position.y += lift * (i + 1) as f64;
+        w.set_grain(i, g);
+    }
+    (w, floor)
+}
+
 pub fn mass_of_square() -> f64 {
     square().mass_properties(NUT_DENSITY).unwrap().0
 }

@@ -5,20 +5,6 @@ use sim::{ContactLaw, Vec2, World};
 
 use super::common::*;
 
-/// A column of `n` squares on the floor, 20 um above its equilibrium, so that it rings.
-fn ringing_column(n: usize) -> (World, usize) {
-    let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
-    let floor = add_floor(&mut w);
-    let square = add_square(&mut w);
-    stack_at_equilibrium(&mut w, square, n, 10.0);
-    for i in 0..n {
-        let mut g = w.grain(i);
-        g.position.y += 20e-6 * (i + 1) as f64;
-        w.set_grain(i, g);
-    }
-    (w, floor)
-}
-
 fn run_for(w: &mut World, seconds: f64) {
     w.run((seconds / w.time_step()).ceil() as u64).unwrap();
 }
@@ -27,7 +13,7 @@ fn run_for(w: &mut World, seconds: f64) {
 fn drag_stills_a_ringing_column_the_contact_law_leaves_ringing() {
     let n = 10;
     let ratio = |drag: f64| {
-        let (mut w, _) = ringing_column(n);
+        let (mut w, _) = ringing_column(n, 20e-6);
         w.set_drag(drag).unwrap();
         run_for(&mut w, 0.1);
         let e = w.energies();
@@ -48,7 +34,7 @@ fn drag_stills_a_ringing_column_the_contact_law_leaves_ringing() {
 #[test]
 fn drag_leaves_the_static_balance_where_it_was() {
     let n = 10;
-    let (mut w, floor) = ringing_column(n);
+    let (mut w, floor) = ringing_column(n, 20e-6);
     w.set_drag(200.0).unwrap();
     run_for(&mut w, 0.2);
     let weight: f64 = (0..n).map(|i| mass(&w, i) * 10.0).sum();

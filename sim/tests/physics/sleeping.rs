@@ -123,15 +123,7 @@ fn a_trembling_column_sleeps_by_drift_and_not_by_speed() {
     // weights: the speed criterion never lets it sleep, the drift criterion does.
     let n = 10;
     let trembling = |settings: SleepSettings| {
-        let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
-        add_floor(&mut w);
-        let square = add_square(&mut w);
-        stack_at_equilibrium(&mut w, square, n, 10.0);
-        for i in 0..n {
-            let mut g = w.grain(i);
-            g.position.y += 20e-6 * (i + 1) as f64;
-            w.set_grain(i, g);
-        }
+        let (mut w, _) = ringing_column(n, 20e-6);
         w.set_sleep(Some(settings)).unwrap();
         settle(&mut w, 0.05);
         w.sleeping()
