@@ -506,10 +506,11 @@ fn rotate_by((cos, sin): (f64, f64), turn: f64) -> (f64, f64) {
 }
 
 /// The drag's factor for a grain: `decay` when something touches it, 1 in free flight (only
-/// gravity acts: the gathered force is exactly its weight and there is no torque).
+/// gravity acts: the gathered force is exactly its weight and there is no torque) and without
+/// drag (checked first: that is every step of a fill but its relaxation).
 #[inline]
 fn drag_factor(decay: f64, force: Vec2, torque: f64, weight: Vec2) -> f64 {
-    if force == weight && torque == 0.0 {
+    if decay == 1.0 || (force == weight && torque == 0.0) {
         1.0
     } else {
         decay
