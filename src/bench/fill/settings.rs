@@ -36,17 +36,27 @@ pub const RELAXATION_DRAG_PER_S: f64 = 200.0;
 /// The setting every other is measured against.
 pub const REFERENCE: &str = "faithful";
 
+/// Every switch off, grains entering above the surface; the settings below name only what
+/// they change.
+const PLAIN: Setting = Setting {
+    name: "",
+    what: "",
+    time_step_s: None,
+    steps_per_collision: 25.0,
+    sleep: false,
+    sleep_speed_m_s: None,
+    sleep_drift_mm: None,
+    relaxation_drag_per_s: 0.0,
+    insertion: Insertion::Surface,
+};
+
 const fn stepped(name: &'static str, what: &'static str, n: f64, sleep: bool) -> Setting {
     Setting {
         name,
         what,
-        time_step_s: None,
         steps_per_collision: n,
         sleep,
-        sleep_speed_m_s: None,
-        sleep_drift_mm: None,
-        relaxation_drag_per_s: 0.0,
-        insertion: Insertion::Surface,
+        ..PLAIN
     }
 }
 
@@ -55,13 +65,11 @@ const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Optio
     Setting {
         name,
         what,
-        time_step_s: None,
         steps_per_collision: n,
         sleep: drift_mm.is_some(),
-        sleep_speed_m_s: None,
         sleep_drift_mm: drift_mm,
         relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
-        insertion: Insertion::Surface,
+        ..PLAIN
     }
 }
 
@@ -72,11 +80,7 @@ pub const SETTINGS: [Setting; 14] = [
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
         time_step_s: Some(1e-6),
         steps_per_collision: 400.0,
-        sleep: false,
-        sleep_speed_m_s: None,
-        sleep_drift_mm: None,
-        relaxation_drag_per_s: 0.0,
-        insertion: Insertion::Surface,
+        ..PLAIN
     },
     stepped("n400", "dt = t_c / 400, sleep off", 400.0, false),
     stepped("n100", "dt = t_c / 100, sleep off", 100.0, false),
@@ -97,24 +101,16 @@ pub const SETTINGS: [Setting; 14] = [
     Setting {
         name: "fixed-insertion",
         what: "dt = t_c / 50, grains enter at the top of the silo and fall the whole way",
-        time_step_s: None,
         steps_per_collision: 50.0,
-        sleep: false,
-        sleep_speed_m_s: None,
-        sleep_drift_mm: None,
-        relaxation_drag_per_s: 0.0,
         insertion: Insertion::Fixed,
+        ..PLAIN
     },
     Setting {
         name: "n25-sleep1cm",
         what: "dt = t_c / 25, grains slower than 1 cm/s for 5 ms sleep (freezes the ringing)",
-        time_step_s: None,
-        steps_per_collision: 25.0,
         sleep: true,
         sleep_speed_m_s: Some(0.01),
-        sleep_drift_mm: None,
-        relaxation_drag_per_s: 0.0,
-        insertion: Insertion::Surface,
+        ..PLAIN
     },
     stepped("n12", "dt = t_c / 12, sleep off", 12.0, false),
     dragged(
