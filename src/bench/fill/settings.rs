@@ -142,13 +142,7 @@ pub const SETTINGS: [Setting; 14] = [
 impl Setting {
     /// The setting called `name`; the error lists the known names.
     pub fn by_name(name: &str) -> anyhow::Result<&'static Setting> {
-        SETTINGS.iter().find(|s| s.name == name).ok_or_else(|| {
-            let names: Vec<&str> = SETTINGS.iter().map(|s| s.name).collect();
-            anyhow::anyhow!(
-                "unknown setting `{name}`: expected one of {}",
-                names.join(", ")
-            )
-        })
+        named(&SETTINGS, name, |s| s.name, "setting")
     }
 
     /// `scene` run this way: the model's other fields back to their defaults, so that a switch
@@ -206,13 +200,7 @@ pub const SCENES: [ReferenceScene; 3] = [
 
 impl ReferenceScene {
     pub fn by_name(name: &str) -> anyhow::Result<&'static ReferenceScene> {
-        SCENES.iter().find(|s| s.name == name).ok_or_else(|| {
-            let names: Vec<&str> = SCENES.iter().map(|s| s.name).collect();
-            anyhow::anyhow!(
-                "unknown scene `{name}`: expected one of {}",
-                names.join(", ")
-            )
-        })
+        named(&SCENES, name, |s| s.name, "scene")
     }
 
     /// The scene with `grains` grains, at most `max_relaxation_time_s` of relaxation, run with
@@ -238,4 +226,20 @@ impl ReferenceScene {
             ),
         )
     }
+}
+
+/// The entry of `list` called `name`; the error lists the known names.
+fn named<T>(
+    list: &'static [T],
+    name: &str,
+    name_of: fn(&T) -> &'static str,
+    what: &str,
+) -> anyhow::Result<&'static T> {
+    list.iter().find(|t| name_of(t) == name).ok_or_else(|| {
+        let names: Vec<&str> = list.iter().map(name_of).collect();
+        anyhow::anyhow!(
+            "unknown {what} `{name}`: expected one of {}",
+            names.join(", ")
+        )
+    })
 }
