@@ -20,14 +20,23 @@ pub enum Body {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SubContactState {
     pub features: Features,
+    /// The sub-contact's share of the law's force (see [`SubContact::weight`]); single
+    /// precision fills the padding after `features`, and only the energy accounts read it.
+    pub weight: f32,
     /// Accumulated tangential displacement xi (m), along perp(normal).
     pub displacement: f64,
     pub overlap: f64,
+    /// Normal and tangential force, weighted.
     pub normal_force: f64,
     pub tangential_force: f64,
 }
 
 impl SubContactState {
+    /// Elastic energy stored in the sub-contact, weighted like its force.
+    pub fn elastic_energy(&self, law: &ContactLaw) -> f64 {
+        f64::from(self.weight) * law.elastic_energy(self.overlap, self.displacement)
+    }
+
     /// Force on the first body, given the sub-contact's unit normal.
     pub fn force(&self, normal: Vec2) -> Vec2 {
         normal * self.normal_force + perp(normal) * self.tangential_force
@@ -85,7 +94,8 @@ impl PairContact {
     /// Drops every sub-contact; `would_be_overlap` gives the overlap each would have now.
     pub(crate) fn clear(&mut self, law: &ContactLaw, would_be_overlap: impl Fn(Features) -> f64) {
         for old in &self.subs {
-            self.switched -= law.elastic_energy(would_be_overlap(old.features), old.displacement);
+            self.switched -= f64::from(old.weight)
+                * law.elastic_energy(would_be_overlap(old.features), old.displacement);
         }
         self.subs.clear();
         self.force = Vec2::zeros();
@@ -106,8 +116,8 @@ impl PairContact {
     ) {
         for old in &self.subs {
             if !found.iter().any(|f| f.features == old.features) {
-                self.switched -=
-                    law.elastic_energy(would_be_overlap(old.features), old.displacement);
+                self.switched -= f64::from(old.weight)
+                    * law.elastic_energy(would_be_overlap(old.features), old.displacement);
             }
         }
         let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
@@ -134,7 +144,7 @@ impl PairContact {
             // A sub-contact that was already overlapping a step ago was switched in by the
             // feature rules, not by the grains coming into touch.
             if history.is_none() && sc.overlap + normal_velocity * dt > 0.0 {
-                self.switched += law.elastic_energy(sc.overlap, 0.0);
+                self.switched += sc.weight * law.elastic_energy(sc.overlap, 0.0);
             }
             let f = law.force(
                 sc.overlap,
@@ -144,16 +154,26 @@ impl PairContact {
                 history.unwrap_or(0.0),
                 dt,
             );
-            let on_first = sc.normal * f.normal + tangent * f.tangential;
+            let (normal_force, tangential_force) = (sc.weight * f.normal, sc.weight * f.tangential);
+            let on_first = sc.normal * normal_force + tangent * tangential_force;
             force += on_first;
             torque_first += cross(arm_first, on_first);
             torque_second -= cross(arm_second, on_first);
+            if sc.weight < 1.0 {
+                // The weighted energy w U is a potential only with -U grad(w) besides.
+                let energy = law.elastic_energy(sc.overlap, 0.0);
+                let g = &sc.weight_gradient;
+                force -= g.position * energy;
+                torque_first -= g.angle_first * energy;
+                torque_second -= g.angle_second * energy;
+            }
             self.subs.push(SubContactState {
                 features: sc.features,
+                weight: sc.weight as f32,
                 displacement: f.displacement,
                 overlap: sc.overlap,
-                normal_force: f.normal,
-                tangential_force: f.tangential,
+                normal_force,
+                tangential_force,
             });
         }
         self.force = force;

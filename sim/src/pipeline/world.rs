@@ -512,7 +512,7 @@ impl World {
         for c in self.pair_contacts.iter().chain(&self.wall_contacts) {
             e.switching += c.switched;
             for s in &c.subs {
-                e.elastic += law.elastic_energy(s.overlap, s.displacement);
+                e.elastic += s.elastic_energy(law);
             }
         }
         e

@@ -1,7 +1,7 @@
 use smallvec::SmallVec;
 
-use super::{Features, PlacedCore, SubContact};
-use crate::math::Vec2;
+use super::{Features, PlacedCore, SubContact, WeightGradient};
+use crate::math::{Vec2, cross, perp};
 
 /// Where a vertex meets the other core.
 #[derive(Clone, Copy, Debug)]
@@ -68,6 +68,8 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
                 overlap: cutoff - touch.distance,
                 point: (p + touch.closest) / 2.0
                     + touch.normal * ((second.radius - first.radius) / 2.0),
+                weight: 1.0,
+                weight_gradient: WeightGradient::ZERO,
             });
         });
     }
@@ -92,34 +94,41 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
                 overlap: cutoff - touch.distance,
                 point: (p + touch.closest) / 2.0
                     + touch.normal * ((first.radius - second.radius) / 2.0),
+                weight: 1.0,
+                weight_gradient: WeightGradient::ZERO,
             });
         });
     }
-    count_corners_once(first, second, out);
+    share_close_corners(first, second, out);
 }
 
-/// The nearer end of edge `e` of `core` to the point whose projection is `along` from its
-/// start.
-fn nearer_end(core: &PlacedCore, e: usize, along: f64) -> usize {
-    if along < core.lengths[e] / 2.0 {
-        e
-    } else if e + 1 == core.len() {
-        0
-    } else {
-        e + 1
-    }
+/// The vertex after `k` of `core`.
+fn next(core: &PlacedCore, k: usize) -> usize {
+    if k + 1 == core.len() { 0 } else { k + 1 }
 }
 
-/// Two faces that meet with their corners nearly level (squares stacked in a column): at that
-/// end, corner a of one core projects inside the other's face and corner b of the other
-/// inside the first's face, both within a window of (core gap x tilt), a fraction of a
-/// micrometre. Counting both would double the force at that end; as the grains tremble across
-/// the window a second sub-contact would appear and vanish at finite overlap, and pump energy
-/// into a deposit at rest. The end is counted once, by the corner that lies deeper inside the
-/// other's face: the two candidates hand over where they are equally deep, with the same
-/// overlap to within gap x tilt^2.
+/// Corner p of one core inside a face of the other, near that face's corner q, while q lies
+/// inside a face of the first near p. The two sub-contacts stand for one contact zone when
+/// the corners are close, and must not switch at a finite overlap as the grains tremble,
+/// which would pump energy into a deposit at rest. Two cases:
+///
+/// - Level corners (squares stacked in a column): p and q at the same end of the shared
+///   stretch, both inside within a window of about (core gap x tilt). Counting both would
+///   double the force at that end.
+/// - The two ends of a short shared stretch: as it shrinks to nothing the face-on-face pair
+///   becomes one corner-on-corner sub-contact, and counting both to the last would halve the
+///   force there at a stroke.
+///
+/// Both are handled by one weighting of the insets x of p and y of q (how far each lies inside
+/// the other's face, from the other's corner), with a(t) a smooth step from 0 at t = 0 to 1 at
+/// t = l, l the mean rounding radius (the width of a rounded contact zone, within a factor of a
+/// few): w_p = a(x) + (1 - a(x)) (1 - a(y)) x / (x + y), and w_q likewise. Apart (x, y >= l)
+/// both count in full; as p reaches the end of the face (x -> 0) its weight falls to zero
+/// where its sub-contact ends; as both reach the ends, the weights add up to the one
+/// corner-on-corner sub-contact that takes over. The force is continuous throughout, and the
+/// weights' gradients make it conservative.
 #[inline]
-fn count_corners_once(
+fn share_close_corners(
     first: &PlacedCore,
     second: &PlacedCore,
     out: &mut SmallVec<[SubContact; 4]>,
@@ -127,43 +136,102 @@ fn count_corners_once(
     if out.len() < 2 {
         return;
     }
-    // Bit k set: drop out[k].
-    let mut drop = 0u32;
-    for a in 0..out.len().min(32) {
+    let zone = (first.radius + second.radius) / 2.0;
+    for a in 0..out.len() {
         let Features::VertexEdge { vertex: k, edge: e } = out[a].features else {
             continue;
         };
         let (k, e) = (k as usize, e as usize);
-        let p = first.vertices[k];
-        let along_p = (p - second.vertices[e]).dot(&second.directions[e]);
-        let m_near = nearer_end(second, e, along_p);
-        for b in 0..out.len().min(32) {
+        for b in 0..out.len() {
             let Features::EdgeVertex { edge: f, vertex: m } = out[b].features else {
                 continue;
             };
             let (f, m) = (f as usize, m as usize);
-            if m != m_near {
+            let q_ends_e = m == e || m == next(second, e);
+            let p_ends_f = k == f || k == next(first, f);
+            if !(q_ends_e && p_ends_f) {
                 continue;
             }
-            let q = second.vertices[m];
-            let along_q = (q - first.vertices[f]).dot(&first.directions[f]);
-            if nearer_end(first, f, along_q) != k {
+            let (p, q) = (first.vertices[k], second.vertices[m]);
+            let (de, df) = (second.directions[e], first.directions[f]);
+            let (along_e, along_f) = ((p - q).dot(&de), (q - p).dot(&df));
+            let (x, y) = (along_e.abs(), along_f.abs());
+            if x >= zone && y >= zone {
                 continue;
             }
-            let inset_p = along_p.min(second.lengths[e] - along_p);
-            let inset_q = along_q.min(first.lengths[f] - along_q);
-            drop |= if inset_p >= inset_q { 1 << b } else { 1 << a };
+            // x = |(p - q) . d_e| and y = |(q - p) . d_f| as the bodies move: p and d_f turn
+            // with the first, q and d_e with the second.
+            let (arm_p, arm_q) = (p - first.centre, q - second.centre);
+            let grad_x = WeightGradient {
+                position: de,
+                angle_first: cross(arm_p, de),
+                angle_second: (p - q).dot(&perp(de)) - cross(arm_q, de),
+            }
+            .scaled(along_e.signum());
+            let grad_y = WeightGradient {
+                position: -df,
+                angle_first: (q - p).dot(&perp(df)) - cross(arm_p, df),
+                angle_second: cross(arm_q, df),
+            }
+            .scaled(along_f.signum());
+            let shares = Shares::of(x, y, zone);
+            for (index, share, by_x, by_y) in [
+                (a, shares.first, shares.first_by_x, shares.first_by_y),
+                (b, shares.second, shares.second_by_x, shares.second_by_y),
+            ] {
+                let sc = &mut out[index];
+                let share_gradient = grad_x.combine(by_x, grad_y, by_y);
+                sc.weight_gradient = sc.weight_gradient.combine(share, share_gradient, sc.weight);
+                sc.weight *= share;
+            }
         }
     }
-    if drop == 0 {
-        return;
+    out.retain(|sc| sc.weight > 0.0);
+}
+
+/// The two weights of [`share_close_corners`] and their derivatives by the insets x and y.
+struct Shares {
+    first: f64,
+    first_by_x: f64,
+    first_by_y: f64,
+    second: f64,
+    second_by_x: f64,
+    second_by_y: f64,
+}
+
+impl Shares {
+    fn of(x: f64, y: f64, zone: f64) -> Self {
+        // Smooth step 3 s^2 - 2 s^3 and its derivative.
+        let step = |t: f64| {
+            let s = (t / zone).min(1.0);
+            (s * s * (3.0 - 2.0 * s), 6.0 * s * (1.0 - s) / zone)
+        };
+        let ((ax, dax), (ay, day)) = (step(x), step(y));
+        let sum = x + y;
+        if sum <= 0.0 {
+            return Self {
+                first: 0.5,
+                first_by_x: 0.0,
+                first_by_y: 0.0,
+                second: 0.5,
+                second_by_x: 0.0,
+                second_by_y: 0.0,
+            };
+        }
+        // w_p = a_x + g x / S, w_q = a_y + g y / S, with g = (1 - a_x)(1 - a_y), S = x + y.
+        let g = (1.0 - ax) * (1.0 - ay);
+        let (g_by_x, g_by_y) = (-dax * (1.0 - ay), -(1.0 - ax) * day);
+        let (fx, fy) = (x / sum, y / sum);
+        let s2 = sum * sum;
+        Self {
+            first: ax + g * fx,
+            first_by_x: dax + g_by_x * fx + g * y / s2,
+            first_by_y: g_by_y * fx - g * x / s2,
+            second: ay + g * fy,
+            second_by_x: g_by_x * fy - g * y / s2,
+            second_by_y: day + g_by_y * fy + g * x / s2,
+        }
     }
-    let mut index = 0;
-    out.retain(|_| {
-        let keep = drop & (1 << index) == 0;
-        index += 1;
-        keep
-    });
 }
 
 /// The overlap the sub-contact `features` would have at the current placement, had it been
@@ -353,27 +421,183 @@ mod tests {
         Spheropolygon::rounded_rectangle(1.0, 1.0, 0.1).unwrap()
     }
 
+    /// Sum of the weights and the weighted normal push k * sum(weight x overlap) / k.
+    fn weighted(c: &[SubContact]) -> (f64, f64) {
+        (
+            c.iter().map(|sc| sc.weight).sum(),
+            c.iter().map(|sc| sc.weight * sc.overlap).sum(),
+        )
+    }
+
     #[test]
-    fn stacked_faces_with_level_corners_count_each_end_once() {
+    fn stacked_faces_with_level_corners_share_each_end() {
         // A column of squares: the upper one tilted by 1e-3 rad and shifted across the window
-        // (core gap x tilt = 0.8 x 1e-3) in which both corners at an end project inside the
-        // other's face. Each end must give one sub-contact, and the total normal push
-        // k * sum(overlap) must not jump as the shift crosses the window.
+        // (core gap x tilt = 0.15 x 1e-3, six shifts) in which both corners at an end project
+        // inside the other's face. Each end must carry one sub-contact's worth of weight, and the total
+        // normal push must not jump as the shift crosses the window.
         let s = square();
         let bottom = Placed::new(&s, Vec2::new(0.0, 0.0), 0.0);
         let tilt = 1e-3;
         let mut previous: Option<f64> = None;
+        let mut shared = 0;
         for step in -40..=40 {
             let shift = step as f64 * 2.5e-5;
             let top = Placed::new(&s, Vec2::new(shift, 0.95), tilt);
             let c = contacts(&top, &bottom);
-            assert_eq!(c.len(), 2, "shift {shift}: {c:?}");
-            let push: f64 = c.iter().map(|sc| sc.overlap).sum();
+            let (weight, push) = weighted(&c);
+            // Two corners sharing an end weigh 1 + a(x) a(y) together, with insets x, y of a
+            // few 1e-5 against the ramp of 0.1.
+            assert!((weight - 2.0).abs() < 1e-6, "shift {shift}: {c:?}");
+            shared += usize::from(c.len() > 2);
             if let Some(p) = previous {
                 // Between two shifts the overlaps change by tilt x 2.5e-5 at most, smoothly.
                 assert!((push - p).abs() < 1e-7, "shift {shift}: {p} -> {push}");
             }
             previous = Some(push);
+        }
+        assert!(
+            shared >= 5,
+            "the window was crossed in {shared} shifts only"
+        );
+    }
+
+    #[test]
+    fn level_corners_hand_over_continuously_in_force_and_torque() {
+        // Finer shifts across the window of one end: the force on the upper square and its
+        // torque about the centre change by no more than the shift's own effect.
+        let s = square();
+        let bottom = Placed::new(&s, Vec2::new(0.0, 0.0), 0.0);
+        let tilt = 2e-2;
+        let load = |shift: f64| {
+            let top = Placed::new(&s, Vec2::new(shift, 0.95), tilt);
+            let c = contacts(&top, &bottom);
+            let force: Vec2 = c.iter().map(|sc| sc.normal * sc.weight * sc.overlap).sum();
+            let torque: f64 = c
+                .iter()
+                .map(|sc| {
+                    crate::math::cross(sc.point - top.centre, sc.normal * sc.weight * sc.overlap)
+                })
+                .sum();
+            (force, torque)
+        };
+        // The window at the right end spans shifts of about gap x tilt = 0.016.
+        let h = 2e-4;
+        let mut last = load(-0.03);
+        for step in 1..=300 {
+            let now = load(-0.03 + step as f64 * h);
+            assert!(
+                (now.0 - last.0).norm() < 1e-4 && (now.1 - last.1).abs() < 1e-4,
+                "step {step}: {last:?} -> {now:?}"
+            );
+            last = now;
+        }
+    }
+
+    #[test]
+    fn the_weight_gradient_matches_finite_differences() {
+        // Close corners at both kinds of pair (level corners, and the ends of a short shared
+        // stretch), with some tilt so that every term of the gradient matters.
+        let s = square();
+        let bottom_at = |angle: f64| Placed::new(&s, Vec2::new(0.0, 0.0), angle);
+        for (shift, tilt) in [(0.014, -0.03), (0.75, 0.05), (0.72, -0.04)] {
+            let top_at =
+                |dx: Vec2, angle: f64| Placed::new(&s, Vec2::new(shift, 0.95) + dx, tilt + angle);
+            let weights = |top: &Placed, bottom: &Placed| -> Vec<(Features, f64)> {
+                contacts(top, bottom)
+                    .iter()
+                    .map(|sc| (sc.features, sc.weight))
+                    .collect()
+            };
+            let found = contacts(&top_at(Vec2::zeros(), 0.0), &bottom_at(0.0));
+            let shared: Vec<&SubContact> = found.iter().filter(|sc| sc.weight < 1.0).collect();
+            assert!(!shared.is_empty(), "shift {shift}: {found:?}");
+            let h = 1e-7;
+            let derivative =
+                |features: Features, plus: (Placed, Placed), minus: (Placed, Placed)| {
+                    let at = |w: Vec<(Features, f64)>| {
+                        w.iter()
+                            .find(|(f, _)| *f == features)
+                            .map_or(0.0, |(_, w)| *w)
+                    };
+                    (at(weights(&plus.0, &plus.1)) - at(weights(&minus.0, &minus.1))) / (2.0 * h)
+                };
+            for sc in shared {
+                let g = sc.weight_gradient;
+                let numeric = [
+                    derivative(
+                        sc.features,
+                        (top_at(Vec2::new(h, 0.0), 0.0), bottom_at(0.0)),
+                        (top_at(Vec2::new(-h, 0.0), 0.0), bottom_at(0.0)),
+                    ),
+                    derivative(
+                        sc.features,
+                        (top_at(Vec2::new(0.0, h), 0.0), bottom_at(0.0)),
+                        (top_at(Vec2::new(0.0, -h), 0.0), bottom_at(0.0)),
+                    ),
+                    derivative(
+                        sc.features,
+                        (top_at(Vec2::zeros(), h), bottom_at(0.0)),
+                        (top_at(Vec2::zeros(), -h), bottom_at(0.0)),
+                    ),
+                    derivative(
+                        sc.features,
+                        (top_at(Vec2::zeros(), 0.0), bottom_at(h)),
+                        (top_at(Vec2::zeros(), 0.0), bottom_at(-h)),
+                    ),
+                ];
+                let analytic = [g.position.x, g.position.y, g.angle_first, g.angle_second];
+                for (n, a) in numeric.iter().zip(analytic) {
+                    assert!(
+                        (n - a).abs() < 1e-5 * (1.0 + a.abs()),
+                        "shift {shift}, {:?}: numeric {numeric:?}, analytic {analytic:?}",
+                        sc.features
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_short_shared_stretch_counts_both_ends_in_full() {
+        // Faces overlapping over 0.15 of their 0.8 core length (more than the 0.1 rounding
+        // radius), slightly tilted either way: each end of the stretch counts in full.
+        let s = square();
+        let bottom = Placed::new(&s, Vec2::zeros(), 0.0);
+        for tilt in [-1e-3, 0.0, 1e-3] {
+            let top = Placed::new(&s, Vec2::new(0.65, 0.95), tilt);
+            let c = contacts(&top, &bottom);
+            assert_eq!(c.len(), 2, "tilt {tilt}: {c:?}");
+            assert!(c.iter().all(|sc| sc.weight == 1.0), "tilt {tilt}: {c:?}");
+        }
+    }
+
+    #[test]
+    fn a_shrinking_shared_stretch_becomes_one_corner_contact_continuously() {
+        // The upper square slides off the lower one: two sub-contacts at the ends of the
+        // shared stretch, then one corner against a corner, then none. The normal push must
+        // go from two overlaps' worth to one without a jump.
+        let s = square();
+        let bottom = Placed::new(&s, Vec2::zeros(), 0.0);
+        for tilt in [-1e-3, 0.0, 1e-3] {
+            let mut last: Option<f64> = None;
+            for step in 0..4000 {
+                let shift = 0.6 + step as f64 * 1e-4;
+                let top = Placed::new(&s, Vec2::new(shift, 0.95), tilt);
+                let (_, push) = weighted(&contacts(&top, &bottom));
+                if step == 0 {
+                    assert!((push - 0.1).abs() < 1e-3, "{push}");
+                }
+                if let Some(p) = last {
+                    // Over the ramp (the 0.1 rounding radius) the push falls by 0.05 as
+                    // a smooth step: at most 1.5e-4 per step. A switch from two
+                    // sub-contacts to one would jump by 0.05.
+                    assert!(
+                        (push - p).abs() < 3e-4,
+                        "tilt {tilt}, shift {shift}: {p} -> {push}"
+                    );
+                }
+                last = Some(push);
+            }
         }
     }
 

@@ -1,6 +1,6 @@
 use smallvec::SmallVec;
 
-use super::{Features, PlacedCore, SubContact};
+use super::{Features, PlacedCore, SubContact, WeightGradient};
 use crate::dynamics::Wall;
 
 /// Sub-contacts of a placed core against a flat wall: one per vertex closer to the wall than
@@ -16,6 +16,8 @@ pub fn core_wall_sub_contacts(core: &PlacedCore, wall: &Wall, out: &mut SmallVec
                 normal: wall.normal,
                 overlap: r - s,
                 point: p - wall.normal * ((r + s) / 2.0),
+                weight: 1.0,
+                weight_gradient: WeightGradient::ZERO,
             });
         }
     }

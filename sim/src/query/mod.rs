@@ -8,4 +8,4 @@ mod sub_contact;
 pub use core_core::{core_core_sub_contacts, feature_overlap};
 pub use core_wall::{core_wall_sub_contacts, wall_feature_overlap};
 pub use placed_core::PlacedCore;
-pub use sub_contact::{Features, SubContact};
+pub use sub_contact::{Features, SubContact, WeightGradient};
