@@ -10,6 +10,18 @@ enum Foot {
     Vertex(usize),
 }
 
+/// How a vertex found inside the other core came in, from the sub-contact it had a step ago.
+#[derive(Clone, Copy, Debug)]
+enum Entry {
+    /// Through the inside of this edge.
+    Edge(usize),
+    /// Past this corner.
+    Corner(usize),
+}
+
+/// A vertex within this fraction of r_i + r_j of the other core counts as inside it.
+const INSIDE: f64 = 1e-3;
+
 /// One vertex-against-core finding: signed distance from the core and the unit normal that
 /// points out of the core towards the vertex.
 #[derive(Clone, Copy, Debug)]
@@ -28,9 +40,13 @@ struct Touch {
 /// - A vertex that projects outside both edges of the nearest vertex of the other core (a
 ///   corner against a corner) gives one vertex-vertex sub-contact, and only when each vertex
 ///   lies in the other's vertex region; otherwise a vertex-edge sub-contact covers it.
-/// - A vertex that has entered the other core (overlap deeper than r_i + r_j) is pushed out
-///   along the outward normal of one edge: the one it had last step, while it stays within
-///   reach of it, so the normal does not flip as the vertex crosses the core's middle.
+/// - A vertex that has entered the other core (overlap deeper than r_i + r_j), or lies on its
+///   outline, is pushed out along the outward normal of the edge it came in through, so the
+///   normal does not flip as it crosses the core's middle: the edge of its own sub-contact a
+///   step ago; or, when it came in past a corner (its own vertex-vertex sub-contact, or that
+///   corner against an edge ending at this vertex: two corners meeting, counted once), the
+///   edge of that corner it lies deeper behind. Only a vertex with no history takes the
+///   nearest edge.
 ///
 /// `previous` lists the features touching at the last step; it is read only for a vertex
 /// found inside the other core, which is rare.
@@ -43,11 +59,22 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
     let cutoff = first.radius + second.radius;
     for k in 0..first.len() {
         let preferred = || {
-            previous().find_map(|f| match f {
+            let own = previous().find_map(|f| match f {
                 Features::VertexEdge { vertex, edge } if vertex as usize == k => {
-                    Some(edge as usize)
+                    Some(Entry::Edge(edge as usize))
+                }
+                Features::VertexVertex { first, second } if first as usize == k => {
+                    Some(Entry::Corner(second as usize))
                 }
                 _ => None,
+            });
+            own.or_else(|| {
+                previous().find_map(|f| match f {
+                    Features::EdgeVertex { edge, vertex } if ends(first, edge, k) => {
+                        Some(Entry::Corner(vertex as usize))
+                    }
+                    _ => None,
+                })
             })
         };
         vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
@@ -75,11 +102,22 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
     }
     for m in 0..second.len() {
         let preferred = || {
-            previous().find_map(|f| match f {
+            let own = previous().find_map(|f| match f {
                 Features::EdgeVertex { edge, vertex } if vertex as usize == m => {
-                    Some(edge as usize)
+                    Some(Entry::Edge(edge as usize))
+                }
+                Features::VertexVertex { first, second } if second as usize == m => {
+                    Some(Entry::Corner(first as usize))
                 }
                 _ => None,
+            });
+            own.or_else(|| {
+                previous().find_map(|f| match f {
+                    Features::VertexEdge { vertex, edge } if ends(second, edge, m) => {
+                        Some(Entry::Corner(vertex as usize))
+                    }
+                    _ => None,
+                })
             })
         };
         vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
@@ -105,6 +143,12 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
 /// The vertex after `k` of `core`.
 fn next(core: &PlacedCore, k: usize) -> usize {
     if k + 1 == core.len() { 0 } else { k + 1 }
+}
+
+/// Whether vertex `k` of `core` is an end of its edge `edge`.
+fn ends(core: &PlacedCore, edge: u8, k: usize) -> bool {
+    let edge = edge as usize;
+    edge < core.len() && (k == edge || k == next(core, edge))
 }
 
 /// Corner p of one core inside a face of the other, near that face's corner q, while q lies
@@ -270,7 +314,7 @@ fn vertex_against_core(
     core: &PlacedCore,
     cutoff: f64,
     vertex_vertex: bool,
-    preferred_edge: impl FnOnce() -> Option<usize>,
+    preferred_entry: impl FnOnce() -> Option<Entry>,
     mut emit: impl FnMut(Touch),
 ) {
     let p = owner.vertices[k];
@@ -301,14 +345,25 @@ fn vertex_against_core(
             nearest_edge = e;
         }
     }
-    if nearest_distance <= 0.0 {
-        // Inside the core: every edge line has the vertex on its inner side.
-        let mut edge = nearest_edge;
-        if let Some(e) = preferred_edge().filter(|&e| e < n) {
-            if (p - core.vertices[e]).dot(&core.normal(e)) > nearest_distance - cutoff {
-                edge = e;
+    if nearest_distance <= INSIDE * cutoff {
+        // Inside the core (every edge line has the vertex on its inner side), or on its
+        // outline: a corner that came in past the end of a face of equal width (rods meeting
+        // end-on) glides along the lines of the sides, and pushed out through a side it would
+        // be squeezed from both and held there.
+        let distance_to = |e: usize| (p - core.vertices[e]).dot(&core.normal(e));
+        let edge = match preferred_entry() {
+            Some(Entry::Edge(e)) if e < n => e,
+            // In from a corner: through whichever of its two edges it lies deeper behind.
+            Some(Entry::Corner(m)) if m < n => {
+                let before = core.previous(m);
+                if distance_to(before) < distance_to(m) {
+                    before
+                } else {
+                    m
+                }
             }
-        }
+            _ => nearest_edge,
+        };
         let normal = core.normal(edge);
         let distance = (p - core.vertices[edge]).dot(&normal);
         emit(Touch {

@@ -96,3 +96,65 @@ fn corner_first_onto_floor_and_onto_a_resting_square() {
         }
     }
 }
+
+/// Two long rods meeting end-on along their common axis, collinear or nearly so: at 2.5 m/s
+/// each (5 m/s relative, the top of a fill's impact speeds), and at 5 m/s each exactly on the
+/// side lines, the case that locked in deposits. (At 5 m/s each with a corner 0.05 mm off the
+/// side line, or turned by 0.01 rad, the corner past the end is genuinely nearest the side and
+/// the rods still lock: a limit of vertex-edge sub-contacts at three rounding radii deep.) The
+/// corners of each end lie on (or next to) the other rod's long sides, so once a corner has gone
+/// deeper than r_i + r_j it is nearer a long side than the end it came through. It must still be
+/// pushed back through that end: pushed sideways, the two corners of an end are squeezed from
+/// both sides, the forces cancel and the rods slide into each other and lock (seen in a
+/// paper-scale deposit of rods: collinear pairs half a rod deep, pressed at 3 N).
+#[test]
+fn rods_meeting_end_on_bounce_back_along_their_axis() {
+    let cases = [
+        (2.5, 0.0, 0.0),
+        (2.5, 1e-9, 0.0),
+        (2.5, 0.05e-3, 0.0),
+        (2.5, 0.0, 0.01),
+        (2.5, 0.4e-3, -0.02),
+        (5.0, 0.0, 0.0),
+        (5.0, -1e-9, 0.0),
+        (5.0, 1e-9, 0.0),
+    ];
+    for (speed, offset, turn) in cases {
+        let law = ContactLaw::default();
+        let mut w = world(law, Vec2::zeros(), None);
+        let id = w.add_shape(rod(), ROD_DENSITY).unwrap();
+        let gap = 0.1e-3;
+        w.add_grain(id, moving(0.0, 0.0, 0.0, speed, 0.0)).unwrap();
+        w.add_grain(id, moving(ROD_LENGTH + gap, offset, turn, -speed, 0.0))
+            .unwrap();
+        w.prime().unwrap();
+        // The cores' ends touch at a centre distance of L - 2 r.
+        let mut closest = f64::INFINITY;
+        for _ in 0..(5e-3 / w.time_step()) as u64 {
+            w.step().unwrap();
+            closest = closest.min((w.grain(1).position - w.grain(0).position).norm());
+        }
+        let case = format!("{speed} m/s each, offset {offset} m, turn {turn} rad");
+        assert!(
+            closest < ROD_LENGTH - 2.0 * ROD_RADIUS,
+            "{case}: the cores never went deeper than r_i + r_j into each other"
+        );
+        let (a, b) = (w.grain(0), w.grain(1));
+        assert_eq!(
+            w.contacts().count(),
+            0,
+            "{case}: still touching, {a:?} {b:?}"
+        );
+        // Bounced back along the axis (restitution about 0.9), not sideways.
+        assert!(
+            a.velocity.x < -0.8 * speed && b.velocity.x > 0.8 * speed,
+            "{case}: {:?} {:?}",
+            a.velocity,
+            b.velocity
+        );
+        assert!(
+            (b.position - a.position).x > ROD_LENGTH,
+            "{case}: the rods overlap along their axis"
+        );
+    }
+}
