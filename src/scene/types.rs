@@ -266,9 +266,9 @@ pub struct ModelSection {
     /// Time step as steps per binary collision of two grains (dimensionless): dt = t_c / n,
     /// t_c = 0.69 ms for the nuts. Ignored when `[run] time_step_s` is set. The paper's 1e-6 s
     /// is n = 690 for nuts. Default 12 (dt = 57 us for nuts, 0.4 of the stability
-    /// bound): on the reference scenes of `facets bench fill` it is 26-32 x faster than the
-    /// paper's step, the fastest setting with every observable within 2 standard errors of
-    /// the paper-faithful ensemble (largest: 1.91, the rods' pressure profile).
+    /// bound): on the reference scenes of `facets bench fill` it is 27-42 x faster than the
+    /// paper's step, with every observable within 2 standard errors of the paper-faithful
+    /// ensemble (largest: 1.17); nothing faster passes by more than the noise.
     pub steps_per_collision: f64,
     /// Grains at rest stop being integrated until a neighbour disturbs them. Off by default:
     /// during a fill the deposit rings (restitution 0.9), so by speed hardly a grain falls
@@ -295,7 +295,7 @@ pub struct ModelSection {
     /// (1/s) on top of the contact law's damping (0: none). The contact law hardly damps a
     /// deposit's low modes, so a pile rings for seconds; the drag stops the ringing without
     /// moving where the grains come to rest. Off by default: at 200/s `facets bench fill`
-    /// measured deviations of 2.06-2.20 standard errors on squares at phi0 = 0.25.
+    /// measured a deviation of 2.53 standard errors in the rods' packing fraction.
     pub relaxation_drag_per_s: f64,
 }
 

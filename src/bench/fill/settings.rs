@@ -74,7 +74,7 @@ const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Optio
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 14] = [
+pub const SETTINGS: [Setting; 16] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
@@ -113,6 +113,20 @@ pub const SETTINGS: [Setting; 14] = [
         ..PLAIN
     },
     stepped("n12", "dt = t_c / 12, sleep off", 12.0, false),
+    stepped(
+        "n12-sleep",
+        "dt = t_c / 12, resting grains sleep",
+        12.0,
+        true,
+    ),
+    Setting {
+        name: "n12-drift",
+        what: "dt = t_c / 12, grains staying within 0.05 mm for 20 ms sleep (wake at 5 weights)",
+        steps_per_collision: 12.0,
+        sleep: true,
+        sleep_drift_mm: Some(0.05),
+        ..PLAIN
+    },
     dragged(
         "n25-drag",
         "dt = t_c / 25, drag 200/s on touching grains after the last grain is in",
