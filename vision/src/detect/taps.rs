@@ -123,6 +123,8 @@ impl Taps {
         use std::arch::x86_64::*;
         let width = plane.width as i32;
         let data = plane.data.as_ptr();
+        // SAFETY: the plane has at least one row below the first (`inside`).
+        let below = unsafe { data.add(plane.width) };
         let (px, py) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
         let (sin, cos) = (_mm256_set1_ps(at.sin), _mm256_set1_ps(at.cos));
         let half = _mm256_set1_ps(0.5);
@@ -147,15 +149,20 @@ impl Taps {
             let tx = _mm256_sub_ps(fx, _mm256_cvtepi32_ps(c));
             let ty = _mm256_sub_ps(fy, _mm256_cvtepi32_ps(r));
             let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            // Each tap's two horizontal neighbours are adjacent: one 64-bit gather element
+            // reads both, halving the gathered elements.
+            let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
             // SAFETY (gathers): `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
-            let (a, b, d, e) = unsafe {
+            let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
                 (
-                    _mm256_i32gather_ps::<4>(data, i),
-                    _mm256_i32gather_ps::<4>(data.add(1), i),
-                    _mm256_i32gather_ps::<4>(data.add(plane.width), i),
-                    _mm256_i32gather_ps::<4>(data.add(plane.width + 1), i),
+                    _mm256_i32gather_pd::<4>(data as *const f64, first),
+                    _mm256_i32gather_pd::<4>(data as *const f64, last),
+                    _mm256_i32gather_pd::<4>(below as *const f64, first),
+                    _mm256_i32gather_pd::<4>(below as *const f64, last),
                 )
             };
+            let (a, b) = split_pairs(top_lo, top_hi);
+            let (d, e) = split_pairs(bottom_lo, bottom_hi);
             let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
             let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
             let value = _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)));
@@ -270,6 +277,24 @@ impl Taps {
         }
         (combine(sums), combine(weights))
     }
+}
+
+/// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
+/// and the rights.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn split_pairs(
+    low: std::arch::x86_64::__m256d,
+    high: std::arch::x86_64::__m256d,
+) -> (std::arch::x86_64::__m256, std::arch::x86_64::__m256) {
+    use std::arch::x86_64::*;
+    let (low, high) = (_mm256_castpd_ps(low), _mm256_castpd_ps(high));
+    // Within each 128-bit half: taps 0 1 4 5 | 2 3 6 7; the 64-bit permute restores 0-7.
+    let left = _mm256_shuffle_ps::<0b10_00_10_00>(low, high);
+    let right = _mm256_shuffle_ps::<0b11_01_11_01>(low, high);
+    let order =
+        |v: __m256| _mm256_castpd_ps(_mm256_permute4x64_pd::<0b11_01_10_00>(_mm256_castps_pd(v)));
+    (order(left), order(right))
 }
 
 /// The lanes' partial sums, combined pairwise in a fixed order.
