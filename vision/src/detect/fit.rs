@@ -184,7 +184,14 @@ fn climb(
                 -h
             };
             let candidate = shifted(step);
-            let v = eval(candidate);
+            // A step clamped to the bracket lands on a pose just scored.
+            let v = if step == h {
+                plus
+            } else if step == -h {
+                minus
+            } else {
+                eval(candidate)
+            };
             if v > value {
                 pose = candidate;
                 value = v;

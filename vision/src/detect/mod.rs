@@ -25,6 +25,7 @@ mod plane;
 mod ridges;
 mod scale;
 mod seeds;
+mod taps;
 
 use image::{DynamicImage, GenericImageView};
 

@@ -11,6 +11,7 @@
 use crate::GrainShape;
 
 use super::plane::Plane;
+use super::taps::{Placement, Taps};
 
 /// Rounding radius of the grains' corners, as a fraction of the width D.
 const ROUNDING: f64 = 0.05;
@@ -48,29 +49,20 @@ struct Geometry {
     ring: f32,
 }
 
-/// A point of the model in the grain's frame (u along the long axis, v across) and its weight
-/// (the area it stands for times the cue's profile there).
-#[derive(Clone, Copy, Debug)]
-struct Tap {
-    u: f32,
-    v: f32,
-    w: f32,
-}
-
 /// The grain model at one resolution level.
 #[derive(Clone, Debug)]
 pub struct Model {
     geometry: Geometry,
     /// Grain interior (outside the hole), scored on the darkness not yet explained.
-    interior: Vec<Tap>,
+    interior: Taps,
     /// The nut's hole: should be bright.
-    hole: Vec<Tap>,
+    hole: Taps,
     /// The field just outside the outline (and the outer half of its ramp): should be bright.
-    ring: Vec<Tap>,
+    ring: Taps,
     /// The faint highlight along a rod's axis: should be a little less dark (positive
     /// weights) than the lines flanking it (`flank`, negative weights).
-    highlight: Vec<Tap>,
-    flank: Vec<Tap>,
+    highlight: Taps,
+    flank: Taps,
     /// Darkness below which the axis counts no lighter: a rod's own highlight is this light,
     /// a gap of bright field between two grains much lighter, and without the floor an
     /// outline laid along a gap would outscore the grains on either side of it.
@@ -187,11 +179,11 @@ impl Model {
         let blocks_v = (reach_v / 2.0).ceil() as i32;
         let mut model = Model {
             geometry: g,
-            interior: Vec::new(),
-            hole: Vec::new(),
-            ring: Vec::new(),
-            highlight: Vec::new(),
-            flank: Vec::new(),
+            interior: Taps::default(),
+            hole: Taps::default(),
+            ring: Taps::default(),
+            highlight: Taps::default(),
+            flank: Taps::default(),
             highlight_floor: 0.0,
             area: 0.0,
         };
@@ -202,11 +194,7 @@ impl Model {
                     .map(|(du, dv)| (cu + du, cv + dv));
                 let merge = cells.iter().all(|&(u, v)| g.deep(u, v));
                 if merge {
-                    model.interior.push(Tap {
-                        u: cu,
-                        v: cv,
-                        w: 4.0,
-                    });
+                    model.interior.push(cu, cv, 4.0);
                     model.area += 4.0;
                 }
                 // Near the outline and the hole's edge of the sharp (full-resolution) model,
@@ -227,6 +215,12 @@ impl Model {
                     if !merge {
                         model.area += interior + hole;
                     }
+                    // The highlight's positive part is the axis line, the negative its flanks.
+                    let highlight_list = if highlight > 0.0 {
+                        &mut model.highlight
+                    } else {
+                        &mut model.flank
+                    };
                     for (list, w, min) in [
                         (
                             &mut model.interior,
@@ -236,17 +230,24 @@ impl Model {
                         (&mut model.hole, hole, 1e-5),
                         (&mut model.ring, ring, 1e-5),
                         // The highlight's tails beyond three sigma carry nothing measurable.
-                        (&mut model.highlight, highlight, 0.011 * a),
+                        (highlight_list, highlight, 0.011 * a),
                     ] {
                         if w.abs() > min {
-                            list.push(Tap { u, v, w });
+                            list.push(u, v, w);
                         }
                     }
                 }
             }
         }
-        let taps = std::mem::take(&mut model.highlight);
-        (model.highlight, model.flank) = taps.into_iter().partition(|t| t.w > 0.0);
+        for taps in [
+            &mut model.interior,
+            &mut model.hole,
+            &mut model.ring,
+            &mut model.highlight,
+            &mut model.flank,
+        ] {
+            taps.seal();
+        }
         model
     }
 
@@ -274,37 +275,17 @@ impl Model {
     /// Scores a pose against the darkness `dark`; the interior is scored on `free`, the
     /// darkness not yet explained by accepted grains, so grains do not overlap.
     pub fn score(&self, pose: Pose, dark: &Plane, free: &Plane) -> Score {
-        let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
-        let (px, py) = (pose.x as f32, pose.y as f32);
-        let (ex, ey) = self.extent(pose.phi);
-        let inside_photo = px - ex >= 1.0
-            && py - ey >= 1.0
-            && px + ex + 1.0 < dark.width as f32
-            && py + ey + 1.0 < dark.height as f32;
-        // Sums of weight x darkness and of the weights, over the taps inside the photograph.
-        let sums = |taps: &[Tap], plane: &Plane, floor: f32| -> (f32, f32) {
-            let (mut s, mut n) = (0.0f32, 0.0f32);
-            for t in taps {
-                let x = px + t.u * cos + t.v * sin;
-                let y = py - t.u * sin + t.v * cos;
-                let d = if inside_photo {
-                    bilinear_inside(plane, x, y)
-                } else {
-                    match bilinear(plane, x, y) {
-                        Some(d) => d,
-                        None => continue,
-                    }
-                };
-                s += t.w * d.max(floor);
-                n += t.w;
-            }
-            (s, n)
+        let at = Placement {
+            x: pose.x as f32,
+            y: pose.y as f32,
+            sin: pose.phi.sin() as f32,
+            cos: pose.phi.cos() as f32,
         };
-        let (int_d, int_w) = sums(&self.interior, free, 0.0);
-        let (hole_d, hole_w) = sums(&self.hole, dark, 0.0);
-        let (ring_d, ring_w) = sums(&self.ring, dark, 0.0);
-        let (axis_d, _) = sums(&self.highlight, dark, self.highlight_floor);
-        let (flank_d, _) = sums(&self.flank, dark, 0.0);
+        let (int_d, int_w) = self.interior.sum(at, free, 0.0);
+        let (hole_d, hole_w) = self.hole.sum(at, dark, 0.0);
+        let (ring_d, ring_w) = self.ring.sum(at, dark, 0.0);
+        let (axis_d, _) = self.highlight.sum(at, dark, self.highlight_floor);
+        let (flank_d, _) = self.flank.sum(at, dark, 0.0);
         let hl_d = axis_d + flank_d;
         let inside = 2.0 * int_d - int_w;
         let hole = hole_w - 2.0 * hole_d;
@@ -365,42 +346,4 @@ impl Model {
             (pose.x + u * c + v * s, pose.y - u * s + v * c)
         })
     }
-}
-
-/// Bilinear value at continuous pixel coordinates (pixel centres at integer + 0.5), known to
-/// lie at least one pixel inside the plane.
-#[inline]
-fn bilinear_inside(p: &Plane, x: f32, y: f32) -> f32 {
-    // Non-negative here, so truncation is the floor (and far cheaper than `floor` on
-    // baseline x86-64, which has no rounding instruction).
-    let (fx, fy) = (x - 0.5, y - 0.5);
-    let (c, r) = (fx as usize, fy as usize);
-    let (tx, ty) = (fx - c as f32, fy - r as f32);
-    let i = r * p.width + c;
-    let (a, b) = (p.data[i], p.data[i + 1]);
-    let (d, e) = (p.data[i + p.width], p.data[i + p.width + 1]);
-    let top = a + tx * (b - a);
-    let bottom = d + tx * (e - d);
-    top + ty * (bottom - top)
-}
-
-/// Bilinear value at continuous pixel coordinates, neighbours clamped at the edges; `None`
-/// outside the photograph.
-#[inline]
-fn bilinear(p: &Plane, x: f32, y: f32) -> Option<f32> {
-    if !(x >= 0.0 && y >= 0.0 && x < p.width as f32 && y < p.height as f32) {
-        return None;
-    }
-    let (fx, fy) = (x - 0.5, y - 0.5);
-    let (c, r) = (fx.floor(), fy.floor());
-    let (tx, ty) = (fx - c, fy - r);
-    let (w, h) = (p.width as isize, p.height as isize);
-    let c0 = (c as isize).clamp(0, w - 1) as usize;
-    let c1 = (c as isize + 1).clamp(0, w - 1) as usize;
-    let r0 = (r as isize).clamp(0, h - 1) as usize;
-    let r1 = (r as isize + 1).clamp(0, h - 1) as usize;
-    let at = |rr: usize, cc: usize| p.data[rr * p.width + cc];
-    let top = at(r0, c0) + tx * (at(r0, c1) - at(r0, c0));
-    let bottom = at(r1, c0) + tx * (at(r1, c1) - at(r1, c0));
-    Some(top + ty * (bottom - top))
 }

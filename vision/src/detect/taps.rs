@@ -1,0 +1,438 @@
+//! A list of model taps and the weighted bilinear sum over them, the detector's inner loop
+//! (nearly all of its time goes into this sum).
+//!
+//! The taps are stored as columns (u, v, w) padded with weightless taps at the centre to a
+//! multiple of [`LANES`], and summed in `LANES` interleaved partial sums combined in a fixed
+//! order. With AVX2 the lanes are one vector (four gathers per eight taps instead of 32 scalar
+//! loads and their index arithmetic); without it a scalar loop does the same operations in the
+//! same order, so a score does not depend on the processor, nor on anything but its inputs.
+
+use super::plane::Plane;
+
+/// Taps summed side by side: one AVX2 vector of f32.
+pub const LANES: usize = 8;
+
+/// Taps in the grain's frame (u along the long axis, v across) and their weights.
+#[derive(Clone, Debug, Default)]
+pub struct Taps {
+    u: Vec<f32>,
+    v: Vec<f32>,
+    w: Vec<f32>,
+    /// Taps before padding.
+    len: usize,
+    /// Sum of the weights (what the weighted sum is normalised with when every tap is inside).
+    weight: f32,
+    /// Largest |u| and |v| of any tap: bounds where a rotated tap can fall.
+    reach_u: f32,
+    reach_v: f32,
+}
+
+/// Rotation and translation of the taps: a tap (u, v) samples at
+/// (x + u cos + v sin, y - u sin + v cos), as in [`super::model::Pose`].
+#[derive(Clone, Copy, Debug)]
+pub struct Placement {
+    pub x: f32,
+    pub y: f32,
+    pub sin: f32,
+    pub cos: f32,
+}
+
+impl Taps {
+    pub fn push(&mut self, u: f32, v: f32, w: f32) {
+        // Padding is only ever appended by `seal`.
+        debug_assert_eq!(self.u.len(), self.len);
+        self.u.push(u);
+        self.v.push(v);
+        self.w.push(w);
+        self.len += 1;
+        self.weight += w;
+        self.reach_u = self.reach_u.max(u.abs());
+        self.reach_v = self.reach_v.max(v.abs());
+    }
+
+    /// Pads to whole lanes; call once, after the last `push`.
+    pub fn seal(&mut self) {
+        while self.u.len() % LANES != 0 {
+            self.u.push(0.0);
+            self.v.push(0.0);
+            self.w.push(0.0);
+        }
+    }
+
+    /// Whether every tap of a placement samples at least one pixel inside the plane's edge, so
+    /// that its four bilinear neighbours exist.
+    pub fn inside(&self, at: Placement, plane: &Plane) -> bool {
+        let (s, c) = (at.sin.abs(), at.cos.abs());
+        let ex = c * self.reach_u + s * self.reach_v + 1.0;
+        let ey = s * self.reach_u + c * self.reach_v + 1.0;
+        at.x - ex >= 1.0
+            && at.y - ey >= 1.0
+            && at.x + ex + 1.0 < plane.width as f32
+            && at.y + ey + 1.0 < plane.height as f32
+    }
+
+    /// Sums of weight x max(value, floor) and of the weights over the taps that fall inside
+    /// the plane (values bilinear, pixel centres at integer + 0.5).
+    pub fn sum(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+        if self.len == 0 {
+            return (0.0, 0.0);
+        }
+        if !self.inside(at, plane) {
+            return self.sum_near_edge(at, plane, floor);
+        }
+        assert!(
+            plane.data.len() <= i32::MAX as usize,
+            "plane too large for 32-bit tap indices"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 is present, and `inside` keeps every bilinear neighbour in the plane.
+            return (
+                unsafe { self.sum_inside_avx2(at, plane, floor) },
+                self.weight,
+            );
+        }
+        (self.sum_inside_scalar(at, plane, floor), self.weight)
+    }
+
+    /// The lane-interleaved sum, one tap at a time (the AVX2 path's operations, in its order).
+    fn sum_inside_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+        let mut lanes = [0.0f32; LANES];
+        let width = plane.width;
+        for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
+            let x = at.x + u * at.cos + v * at.sin;
+            let y = at.y - u * at.sin + v * at.cos;
+            let (fx, fy) = (x - 0.5, y - 0.5);
+            // Non-negative here, so truncation is the floor.
+            let (c, r) = (fx as i32, fy as i32);
+            let (tx, ty) = (fx - c as f32, fy - r as f32);
+            let i = r as usize * width + c as usize;
+            let (a, b) = (plane.data[i], plane.data[i + 1]);
+            let (d, e) = (plane.data[i + width], plane.data[i + width + 1]);
+            let top = a + tx * (b - a);
+            let bottom = d + tx * (e - d);
+            let value = top + ty * (bottom - top);
+            lanes[k % LANES] += w * value.max(floor);
+        }
+        combine(lanes)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sum_inside_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+        use std::arch::x86_64::*;
+        let width = plane.width as i32;
+        let data = plane.data.as_ptr();
+        // SAFETY: the plane has at least one row below the first (`inside`).
+        let below = unsafe { data.add(plane.width) };
+        let (px, py) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let (sin, cos) = (_mm256_set1_ps(at.sin), _mm256_set1_ps(at.cos));
+        let half = _mm256_set1_ps(0.5);
+        let floor = _mm256_set1_ps(floor);
+        let stride = _mm256_set1_epi32(width);
+        let mut acc = _mm256_setzero_ps();
+        for k in (0..self.u.len()).step_by(LANES) {
+            // SAFETY (loads): the columns hold whole lanes (`seal`).
+            let u = unsafe { _mm256_loadu_ps(self.u.as_ptr().add(k)) };
+            let v = unsafe { _mm256_loadu_ps(self.v.as_ptr().add(k)) };
+            let w = unsafe { _mm256_loadu_ps(self.w.as_ptr().add(k)) };
+            let x = _mm256_add_ps(
+                _mm256_add_ps(px, _mm256_mul_ps(u, cos)),
+                _mm256_mul_ps(v, sin),
+            );
+            let y = _mm256_add_ps(
+                _mm256_sub_ps(py, _mm256_mul_ps(u, sin)),
+                _mm256_mul_ps(v, cos),
+            );
+            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
+            let (c, r) = (_mm256_cvttps_epi32(fx), _mm256_cvttps_epi32(fy));
+            let tx = _mm256_sub_ps(fx, _mm256_cvtepi32_ps(c));
+            let ty = _mm256_sub_ps(fy, _mm256_cvtepi32_ps(r));
+            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            // Each tap's two horizontal neighbours are adjacent: one 64-bit gather element
+            // reads both, halving the gathered elements.
+            let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
+            // SAFETY (gathers): `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
+            let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
+                (
+                    _mm256_i32gather_pd::<4>(data as *const f64, first),
+                    _mm256_i32gather_pd::<4>(data as *const f64, last),
+                    _mm256_i32gather_pd::<4>(below as *const f64, first),
+                    _mm256_i32gather_pd::<4>(below as *const f64, last),
+                )
+            };
+            let (a, b) = split_pairs(top_lo, top_hi);
+            let (d, e) = split_pairs(bottom_lo, bottom_hi);
+            let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
+            let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
+            let value = _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)));
+            // max(value, floor) as in f32::max for the non-NaN values a plane holds.
+            acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
+        }
+        let mut lanes = [0.0f32; LANES];
+        // SAFETY: `lanes` holds exactly one vector.
+        unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), acc) };
+        combine(lanes)
+    }
+
+    /// Taps near or beyond the edge (a sixth of the poses on a full-width frame): taps
+    /// outside the plane count for nothing, neighbours beyond the edge are clamped onto it.
+    fn sum_near_edge(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 is present.
+            return unsafe { self.sum_near_edge_avx2(at, plane, floor) };
+        }
+        self.sum_near_edge_scalar(at, plane, floor)
+    }
+
+    fn sum_near_edge_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+        let (mut sums, mut weights) = ([0.0f32; LANES], [0.0f32; LANES]);
+        for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
+            let x = at.x + u * at.cos + v * at.sin;
+            let y = at.y - u * at.sin + v * at.cos;
+            let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
+            let w = if seen { w } else { 0.0 };
+            sums[k % LANES] += w * bilinear_clamped(plane, x, y).max(floor);
+            weights[k % LANES] += w;
+        }
+        (combine(sums), combine(weights))
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn sum_near_edge_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+        use std::arch::x86_64::*;
+        let data = plane.data.as_ptr();
+        let (px, py) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let (sin, cos) = (_mm256_set1_ps(at.sin), _mm256_set1_ps(at.cos));
+        let half = _mm256_set1_ps(0.5);
+        let zero = _mm256_setzero_ps();
+        let (width, height) = (plane.width as f32, plane.height as f32);
+        let (wf, hf) = (_mm256_set1_ps(width), _mm256_set1_ps(height));
+        let floor = _mm256_set1_ps(floor);
+        let stride = _mm256_set1_epi32(plane.width as i32);
+        let (last_c, last_r) = (
+            _mm256_set1_epi32(plane.width as i32 - 1),
+            _mm256_set1_epi32(plane.height as i32 - 1),
+        );
+        let one = _mm256_set1_epi32(1);
+        let zero_i = _mm256_setzero_si256();
+        let (mut acc, mut acc_w) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+        for k in (0..self.u.len()).step_by(LANES) {
+            // SAFETY (loads): the columns hold whole lanes (`seal`).
+            let u = unsafe { _mm256_loadu_ps(self.u.as_ptr().add(k)) };
+            let v = unsafe { _mm256_loadu_ps(self.v.as_ptr().add(k)) };
+            let w = unsafe { _mm256_loadu_ps(self.w.as_ptr().add(k)) };
+            let x = _mm256_add_ps(
+                _mm256_add_ps(px, _mm256_mul_ps(u, cos)),
+                _mm256_mul_ps(v, sin),
+            );
+            let y = _mm256_add_ps(
+                _mm256_sub_ps(py, _mm256_mul_ps(u, sin)),
+                _mm256_mul_ps(v, cos),
+            );
+            let seen = _mm256_and_ps(
+                _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(y, zero),
+                ),
+                _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(x, wf),
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(y, hf),
+                ),
+            );
+            let w = _mm256_and_ps(w, seen);
+            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
+            let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
+            let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
+            let (c, r) = (_mm256_cvttps_epi32(cf), _mm256_cvttps_epi32(rf));
+            let clamp =
+                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, zero_i), last);
+            let (c0, c1) = (clamp(c, last_c), clamp(_mm256_add_epi32(c, one), last_c));
+            let (r0, r1) = (
+                _mm256_mullo_epi32(clamp(r, last_r), stride),
+                _mm256_mullo_epi32(clamp(_mm256_add_epi32(r, one), last_r), stride),
+            );
+            // SAFETY (gathers): every index is clamped into the plane.
+            let (a, b, d, e) = unsafe {
+                (
+                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r0, c0)),
+                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r0, c1)),
+                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r1, c0)),
+                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r1, c1)),
+                )
+            };
+            let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
+            let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
+            let value = _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)));
+            acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
+            acc_w = _mm256_add_ps(acc_w, w);
+        }
+        let (mut sums, mut weights) = ([0.0f32; LANES], [0.0f32; LANES]);
+        // SAFETY: each array holds exactly one vector.
+        unsafe {
+            _mm256_storeu_ps(sums.as_mut_ptr(), acc);
+            _mm256_storeu_ps(weights.as_mut_ptr(), acc_w);
+        }
+        (combine(sums), combine(weights))
+    }
+}
+
+/// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
+/// and the rights.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn split_pairs(
+    low: std::arch::x86_64::__m256d,
+    high: std::arch::x86_64::__m256d,
+) -> (std::arch::x86_64::__m256, std::arch::x86_64::__m256) {
+    use std::arch::x86_64::*;
+    let (low, high) = (_mm256_castpd_ps(low), _mm256_castpd_ps(high));
+    // Within each 128-bit half: taps 0 1 4 5 | 2 3 6 7; the 64-bit permute restores 0-7.
+    let left = _mm256_shuffle_ps::<0b10_00_10_00>(low, high);
+    let right = _mm256_shuffle_ps::<0b11_01_11_01>(low, high);
+    let order =
+        |v: __m256| _mm256_castpd_ps(_mm256_permute4x64_pd::<0b11_01_10_00>(_mm256_castps_pd(v)));
+    (order(left), order(right))
+}
+
+/// The lanes' partial sums, combined pairwise in a fixed order.
+#[inline]
+fn combine(l: [f32; LANES]) -> f32 {
+    ((l[0] + l[4]) + (l[1] + l[5])) + ((l[2] + l[6]) + (l[3] + l[7]))
+}
+
+/// Bilinear value at continuous pixel coordinates, neighbours clamped onto the plane.
+#[inline]
+fn bilinear_clamped(p: &Plane, x: f32, y: f32) -> f32 {
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (cf, rf) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - cf, fy - rf);
+    let (c, r) = (cf as i32, rf as i32);
+    let (last_c, last_r) = (p.width as i32 - 1, p.height as i32 - 1);
+    let (c0, c1) = (
+        c.clamp(0, last_c) as usize,
+        c.saturating_add(1).clamp(0, last_c) as usize,
+    );
+    let (r0, r1) = (
+        r.clamp(0, last_r) as usize * p.width,
+        r.saturating_add(1).clamp(0, last_r) as usize * p.width,
+    );
+    let (a, b) = (p.data[r0 + c0], p.data[r0 + c1]);
+    let (d, e) = (p.data[r1 + c0], p.data[r1 + c1]);
+    let top = a + tx * (b - a);
+    let bottom = d + tx * (e - d);
+    top + ty * (bottom - top)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn noise_plane(width: usize, height: usize) -> Plane {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let data = (0..width * height)
+            .map(|_| {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                (state >> 40) as f32 / (1u64 << 24) as f32
+            })
+            .collect();
+        Plane {
+            width,
+            height,
+            data,
+        }
+    }
+
+    fn some_taps() -> Taps {
+        let mut taps = Taps::default();
+        for k in 0..37 {
+            let (u, v) = ((k % 9) as f32 * 1.7 - 6.0, (k / 9) as f32 * 1.3 - 2.5);
+            taps.push(u, v, 0.25 + (k % 5) as f32 * 0.3 - 0.6);
+        }
+        taps.seal();
+        taps
+    }
+
+    /// The vector path and the scalar path give the same sum to the bit, so scores do not
+    /// depend on the processor; both agree with a plain sum of bilinear values.
+    #[test]
+    fn paths_agree() {
+        let plane = noise_plane(64, 48);
+        let taps = some_taps();
+        for k in 0..50 {
+            let phi = k as f32 * 0.37;
+            let at = Placement {
+                x: 20.0 + (k % 7) as f32 * 3.1,
+                y: 18.0 + (k % 5) as f32 * 2.3,
+                sin: phi.sin(),
+                cos: phi.cos(),
+            };
+            assert!(taps.inside(at, &plane));
+            let scalar = taps.sum_inside_scalar(at, &plane, 0.3);
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx2") {
+                let vector = unsafe { taps.sum_inside_avx2(at, &plane, 0.3) };
+                assert_eq!(scalar.to_bits(), vector.to_bits());
+            }
+            let (plain, n) = taps.sum_near_edge_scalar(at, &plane, 0.3);
+            assert!((plain - scalar).abs() < 1e-4 * (1.0 + plain.abs()));
+            assert!((n - taps.weight).abs() < 1e-5);
+        }
+    }
+
+    /// Near the edge, too, both paths give the same sums to the bit, and these are the plain
+    /// sums over the taps that fall inside the plane.
+    #[test]
+    fn edge_paths_agree() {
+        let plane = noise_plane(40, 30);
+        let taps = some_taps();
+        for k in 0..60 {
+            let phi = k as f32 * 0.29;
+            let at = Placement {
+                x: -3.0 + (k % 11) as f32 * 4.6,
+                y: -2.0 + (k % 7) as f32 * 5.1,
+                sin: phi.sin(),
+                cos: phi.cos(),
+            };
+            let (s, n) = taps.sum_near_edge_scalar(at, &plane, 0.3);
+            #[cfg(target_arch = "x86_64")]
+            if std::is_x86_feature_detected!("avx2") {
+                let (vs, vn) = unsafe { taps.sum_near_edge_avx2(at, &plane, 0.3) };
+                assert_eq!((s.to_bits(), n.to_bits()), (vs.to_bits(), vn.to_bits()));
+            }
+            let (mut plain, mut plain_n) = (0.0f32, 0.0f32);
+            for t in 0..taps.len {
+                let x = at.x + taps.u[t] * at.cos + taps.v[t] * at.sin;
+                let y = at.y - taps.u[t] * at.sin + taps.v[t] * at.cos;
+                if x >= 0.0 && y >= 0.0 && x < 40.0 && y < 30.0 {
+                    plain += taps.w[t] * bilinear_clamped(&plane, x, y).max(0.3);
+                    plain_n += taps.w[t];
+                }
+            }
+            assert!((plain - s).abs() < 1e-4 * (1.0 + plain.abs()));
+            assert!((plain_n - n).abs() < 1e-4);
+        }
+    }
+
+    /// Near the edge only the taps inside the plane count, with their weights.
+    #[test]
+    fn taps_outside_are_skipped() {
+        let plane = Plane::new(10, 10, 1.0);
+        let mut taps = Taps::default();
+        taps.push(0.0, 0.0, 1.0);
+        taps.push(-20.0, 0.0, 2.0);
+        taps.seal();
+        let at = Placement {
+            x: 5.0,
+            y: 5.0,
+            sin: 0.0,
+            cos: 1.0,
+        };
+        assert!(!taps.inside(at, &plane));
+        assert_eq!(taps.sum(at, &plane, 0.0), (1.0, 1.0));
+    }
+}
