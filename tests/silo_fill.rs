@@ -230,7 +230,10 @@ fn sample_scenes_load_and_their_rain_fits() {
             .unwrap_or_else(|e| panic!("{}: {e:#}", path.display()));
         n += 1;
     }
-    assert_eq!(n, 28, "the paper's 14 cases at paper scale and small");
+    assert_eq!(
+        n, 29,
+        "the paper's 14 cases at paper scale and small, and squares at 0.01 with sleep"
+    );
 }
 
 #[test]

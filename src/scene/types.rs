@@ -223,7 +223,7 @@ impl ContactSection {
 pub struct RunSection {
     /// Seed of the feeder's random positions and orientations (`--seed` overrides it).
     pub seed: u64,
-    /// Time step (s). Default: the engine's, 1/400 of a binary collision of the lightest grains.
+    /// Time step (s). Default: none, and `[model] steps_per_collision` sets it (t_c / 12).
     pub time_step_s: Option<f64>,
     /// The deposit is relaxed when its mean kinetic energy is below this fraction of the mean
     /// elastic energy in the contacts (dimensionless). Default 1e-4 (SPEC §2).
