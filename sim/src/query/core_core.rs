@@ -58,25 +58,7 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
 ) {
     let cutoff = first.radius + second.radius;
     for k in 0..first.len() {
-        let preferred = || {
-            let own = previous().find_map(|f| match f {
-                Features::VertexEdge { vertex, edge } if vertex as usize == k => {
-                    Some(Entry::Edge(edge as usize))
-                }
-                Features::VertexVertex { first, second } if first as usize == k => {
-                    Some(Entry::Corner(second as usize))
-                }
-                _ => None,
-            });
-            own.or_else(|| {
-                previous().find_map(|f| match f {
-                    Features::EdgeVertex { edge, vertex } if ends(first, edge, k) => {
-                        Some(Entry::Corner(vertex as usize))
-                    }
-                    _ => None,
-                })
-            })
-        };
+        let preferred = || entry(first, k, &previous);
         vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
                 Foot::Edge(e) => Features::VertexEdge {
@@ -101,25 +83,7 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
         });
     }
     for m in 0..second.len() {
-        let preferred = || {
-            let own = previous().find_map(|f| match f {
-                Features::EdgeVertex { edge, vertex } if vertex as usize == m => {
-                    Some(Entry::Edge(edge as usize))
-                }
-                Features::VertexVertex { first, second } if second as usize == m => {
-                    Some(Entry::Corner(first as usize))
-                }
-                _ => None,
-            });
-            own.or_else(|| {
-                previous().find_map(|f| match f {
-                    Features::VertexEdge { vertex, edge } if ends(second, edge, m) => {
-                        Some(Entry::Corner(vertex as usize))
-                    }
-                    _ => None,
-                })
-            })
-        };
+        let preferred = || entry(second, m, || previous().map(Features::mirrored));
         vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
             let Foot::Edge(e) = touch.foot else { return };
             let p = second.vertices[m];
@@ -143,6 +107,34 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
 /// The vertex after `k` of `core`.
 fn next(core: &PlacedCore, k: usize) -> usize {
     if k + 1 == core.len() { 0 } else { k + 1 }
+}
+
+/// How vertex k of `owner`, found inside the other core, came in, read from the features that
+/// touched a step ago (`previous`, with `owner` as the first core): its own sub-contact, or
+/// else the other grain's corner against an edge of `owner` ending at k (two corners that
+/// met, counted once as that corner's).
+fn entry<J: Iterator<Item = Features>>(
+    owner: &PlacedCore,
+    k: usize,
+    previous: impl Fn() -> J,
+) -> Option<Entry> {
+    let own = previous().find_map(|f| match f {
+        Features::VertexEdge { vertex, edge } if vertex as usize == k => {
+            Some(Entry::Edge(edge as usize))
+        }
+        Features::VertexVertex { first, second } if first as usize == k => {
+            Some(Entry::Corner(second as usize))
+        }
+        _ => None,
+    });
+    own.or_else(|| {
+        previous().find_map(|f| match f {
+            Features::EdgeVertex { edge, vertex } if ends(owner, edge, k) => {
+                Some(Entry::Corner(vertex as usize))
+            }
+            _ => None,
+        })
+    })
 }
 
 /// Whether vertex `k` of `core` is an end of its edge `edge`.
@@ -365,7 +357,7 @@ fn vertex_against_core(
             _ => nearest_edge,
         };
         let normal = core.normal(edge);
-        let distance = (p - core.vertices[edge]).dot(&normal);
+        let distance = distance_to(edge);
         emit(Touch {
             foot: Foot::Edge(edge),
             normal,

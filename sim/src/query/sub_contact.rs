@@ -17,6 +17,21 @@ pub enum Features {
     VertexWall { vertex: u8 },
 }
 
+impl Features {
+    /// The same features with the two cores' roles swapped.
+    pub fn mirrored(self) -> Self {
+        match self {
+            Self::VertexEdge { vertex, edge } => Self::EdgeVertex { edge, vertex },
+            Self::EdgeVertex { edge, vertex } => Self::VertexEdge { vertex, edge },
+            Self::VertexVertex { first, second } => Self::VertexVertex {
+                first: second,
+                second: first,
+            },
+            wall @ Self::VertexWall { .. } => wall,
+        }
+    }
+}
+
 /// One point of contact between two spheropolygons (or a spheropolygon and a wall).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SubContact {

@@ -7,6 +7,9 @@
 //! loads and their index arithmetic); without it a scalar loop does the same operations in the
 //! same order, so a score does not depend on the processor, nor on anything but its inputs.
 
+#[cfg(target_arch = "x86_64")]
+use std::arch::x86_64::{__m256, __m256d};
+
 use super::plane::Plane;
 
 /// Taps summed side by side: one AVX2 vector of f32.
@@ -35,6 +38,17 @@ pub struct Placement {
     pub y: f32,
     pub sin: f32,
     pub cos: f32,
+}
+
+impl Placement {
+    /// Where tap (u, v) samples.
+    #[inline]
+    fn apply(self, u: f32, v: f32) -> (f32, f32) {
+        (
+            self.x + u * self.cos + v * self.sin,
+            self.y - u * self.sin + v * self.cos,
+        )
+    }
 }
 
 impl Taps {
@@ -100,8 +114,7 @@ impl Taps {
         let mut lanes = [0.0f32; LANES];
         let width = plane.width;
         for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
-            let x = at.x + u * at.cos + v * at.sin;
-            let y = at.y - u * at.sin + v * at.cos;
+            let (x, y) = at.apply(u, v);
             let (fx, fy) = (x - 0.5, y - 0.5);
             // Non-negative here, so truncation is the floor.
             let (c, r) = (fx as i32, fy as i32);
@@ -109,10 +122,7 @@ impl Taps {
             let i = r as usize * width + c as usize;
             let (a, b) = (plane.data[i], plane.data[i + 1]);
             let (d, e) = (plane.data[i + width], plane.data[i + width + 1]);
-            let top = a + tx * (b - a);
-            let bottom = d + tx * (e - d);
-            let value = top + ty * (bottom - top);
-            lanes[k % LANES] += w * value.max(floor);
+            lanes[k % LANES] += w * blend(a, b, d, e, tx, ty).max(floor);
         }
         combine(lanes)
     }
@@ -125,25 +135,14 @@ impl Taps {
         let data = plane.data.as_ptr();
         // SAFETY: the plane has at least one row below the first (`inside`).
         let below = unsafe { data.add(plane.width) };
-        let (px, py) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
-        let (sin, cos) = (_mm256_set1_ps(at.sin), _mm256_set1_ps(at.cos));
+        let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
         let floor = _mm256_set1_ps(floor);
         let stride = _mm256_set1_epi32(width);
         let mut acc = _mm256_setzero_ps();
         for k in (0..self.u.len()).step_by(LANES) {
-            // SAFETY (loads): the columns hold whole lanes (`seal`).
-            let u = unsafe { _mm256_loadu_ps(self.u.as_ptr().add(k)) };
-            let v = unsafe { _mm256_loadu_ps(self.v.as_ptr().add(k)) };
-            let w = unsafe { _mm256_loadu_ps(self.w.as_ptr().add(k)) };
-            let x = _mm256_add_ps(
-                _mm256_add_ps(px, _mm256_mul_ps(u, cos)),
-                _mm256_mul_ps(v, sin),
-            );
-            let y = _mm256_add_ps(
-                _mm256_sub_ps(py, _mm256_mul_ps(u, sin)),
-                _mm256_mul_ps(v, cos),
-            );
+            // SAFETY: k is a whole lane of the padded columns (`seal`).
+            let (x, y, w) = unsafe { at.taps(self, k) };
             let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
             let (c, r) = (_mm256_cvttps_epi32(fx), _mm256_cvttps_epi32(fy));
             let tx = _mm256_sub_ps(fx, _mm256_cvtepi32_ps(c));
@@ -163,9 +162,7 @@ impl Taps {
             };
             let (a, b) = split_pairs(top_lo, top_hi);
             let (d, e) = split_pairs(bottom_lo, bottom_hi);
-            let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
-            let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
-            let value = _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)));
+            let value = blend_x8(a, b, d, e, tx, ty);
             // max(value, floor) as in f32::max for the non-NaN values a plane holds.
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
         }
@@ -189,8 +186,7 @@ impl Taps {
     fn sum_near_edge_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
         let (mut sums, mut weights) = ([0.0f32; LANES], [0.0f32; LANES]);
         for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
-            let x = at.x + u * at.cos + v * at.sin;
-            let y = at.y - u * at.sin + v * at.cos;
+            let (x, y) = at.apply(u, v);
             let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
             let w = if seen { w } else { 0.0 };
             sums[k % LANES] += w * bilinear_clamped(plane, x, y).max(floor);
@@ -204,8 +200,7 @@ impl Taps {
     unsafe fn sum_near_edge_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
         use std::arch::x86_64::*;
         let data = plane.data.as_ptr();
-        let (px, py) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
-        let (sin, cos) = (_mm256_set1_ps(at.sin), _mm256_set1_ps(at.cos));
+        let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
         let zero = _mm256_setzero_ps();
         let (width, height) = (plane.width as f32, plane.height as f32);
@@ -220,18 +215,8 @@ impl Taps {
         let zero_i = _mm256_setzero_si256();
         let (mut acc, mut acc_w) = (_mm256_setzero_ps(), _mm256_setzero_ps());
         for k in (0..self.u.len()).step_by(LANES) {
-            // SAFETY (loads): the columns hold whole lanes (`seal`).
-            let u = unsafe { _mm256_loadu_ps(self.u.as_ptr().add(k)) };
-            let v = unsafe { _mm256_loadu_ps(self.v.as_ptr().add(k)) };
-            let w = unsafe { _mm256_loadu_ps(self.w.as_ptr().add(k)) };
-            let x = _mm256_add_ps(
-                _mm256_add_ps(px, _mm256_mul_ps(u, cos)),
-                _mm256_mul_ps(v, sin),
-            );
-            let y = _mm256_add_ps(
-                _mm256_sub_ps(py, _mm256_mul_ps(u, sin)),
-                _mm256_mul_ps(v, cos),
-            );
+            // SAFETY: k is a whole lane of the padded columns (`seal`).
+            let (x, y, w) = unsafe { at.taps(self, k) };
             let seen = _mm256_and_ps(
                 _mm256_and_ps(
                     _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
@@ -263,9 +248,7 @@ impl Taps {
                     _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r1, c1)),
                 )
             };
-            let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
-            let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
-            let value = _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)));
+            let value = blend_x8(a, b, d, e, tx, ty);
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
             acc_w = _mm256_add_ps(acc_w, w);
         }
@@ -279,14 +262,75 @@ impl Taps {
     }
 }
 
+/// A [`Placement`] broadcast to eight lanes.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct PlacementX8 {
+    x: __m256,
+    y: __m256,
+    sin: __m256,
+    cos: __m256,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl PlacementX8 {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new(at: Placement) -> Self {
+        use std::arch::x86_64::*;
+        Self {
+            x: _mm256_set1_ps(at.x),
+            y: _mm256_set1_ps(at.y),
+            sin: _mm256_set1_ps(at.sin),
+            cos: _mm256_set1_ps(at.cos),
+        }
+    }
+
+    /// Where taps k to k + 7 sample ([`Placement::apply`], the same operations), and their
+    /// weights.
+    ///
+    /// # Safety
+    /// k + 8 must not exceed the padded columns' length.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    unsafe fn taps(self, taps: &Taps, k: usize) -> (__m256, __m256, __m256) {
+        use std::arch::x86_64::*;
+        // SAFETY: the caller keeps the eight loads inside the columns.
+        let (u, v, w) = unsafe {
+            (
+                _mm256_loadu_ps(taps.u.as_ptr().add(k)),
+                _mm256_loadu_ps(taps.v.as_ptr().add(k)),
+                _mm256_loadu_ps(taps.w.as_ptr().add(k)),
+            )
+        };
+        let x = _mm256_add_ps(
+            _mm256_add_ps(self.x, _mm256_mul_ps(u, self.cos)),
+            _mm256_mul_ps(v, self.sin),
+        );
+        let y = _mm256_add_ps(
+            _mm256_sub_ps(self.y, _mm256_mul_ps(u, self.sin)),
+            _mm256_mul_ps(v, self.cos),
+        );
+        (x, y, w)
+    }
+}
+
+/// [`blend`] on eight lanes, the same operations.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+fn blend_x8(a: __m256, b: __m256, d: __m256, e: __m256, tx: __m256, ty: __m256) -> __m256 {
+    use std::arch::x86_64::*;
+    let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
+    let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
+    _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)))
+}
+
 /// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
 /// and the rights.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn split_pairs(
-    low: std::arch::x86_64::__m256d,
-    high: std::arch::x86_64::__m256d,
-) -> (std::arch::x86_64::__m256, std::arch::x86_64::__m256) {
+fn split_pairs(low: __m256d, high: __m256d) -> (__m256, __m256) {
     use std::arch::x86_64::*;
     let (low, high) = (_mm256_castpd_ps(low), _mm256_castpd_ps(high));
     // Within each 128-bit half: taps 0 1 4 5 | 2 3 6 7; the 64-bit permute restores 0-7.
@@ -321,6 +365,12 @@ fn bilinear_clamped(p: &Plane, x: f32, y: f32) -> f32 {
     );
     let (a, b) = (p.data[r0 + c0], p.data[r0 + c1]);
     let (d, e) = (p.data[r1 + c0], p.data[r1 + c1]);
+    blend(a, b, d, e, tx, ty)
+}
+
+/// Bilinear blend of a pixel's four neighbours (a b on top, d e below) at fractions (tx, ty).
+#[inline]
+fn blend(a: f32, b: f32, d: f32, e: f32, tx: f32, ty: f32) -> f32 {
     let top = a + tx * (b - a);
     let bottom = d + tx * (e - d);
     top + ty * (bottom - top)
@@ -406,8 +456,7 @@ mod tests {
             }
             let (mut plain, mut plain_n) = (0.0f32, 0.0f32);
             for t in 0..taps.len {
-                let x = at.x + taps.u[t] * at.cos + taps.v[t] * at.sin;
-                let y = at.y - taps.u[t] * at.sin + taps.v[t] * at.cos;
+                let (x, y) = at.apply(taps.u[t], taps.v[t]);
                 if x >= 0.0 && y >= 0.0 && x < 40.0 && y < 30.0 {
                     plain += taps.w[t] * bilinear_clamped(&plane, x, y).max(0.3);
                     plain_n += taps.w[t];
