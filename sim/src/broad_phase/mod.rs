@@ -6,4 +6,4 @@ mod cell_list;
 mod verlet_list;
 
 pub use cell_list::CellList;
-pub use verlet_list::{VerletList, moved_past_half_skin};
+pub use verlet_list::{Replaced, VerletList, moved_past_half_skin};

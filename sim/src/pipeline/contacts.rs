@@ -183,20 +183,30 @@ impl PairContact {
 }
 
 /// Moves the histories of pairs that survive a Verlet rebuild to their new slots; both pair
-/// lists are sorted.
+/// lists are sorted. The lists usually agree up to some pair: the grains that moved are the
+/// top of a deposit, its latest grains, whose pairs sort last. The contacts before it stay
+/// where they are and only the rest are moved.
 pub(crate) fn carry_over<K: Ord + Copy>(
     old_keys: &[K],
-    old: &mut [PairContact],
+    mut old: Vec<PairContact>,
     new_keys: &[K],
 ) -> Vec<PairContact> {
-    let mut carried = Vec::with_capacity(new_keys.len());
+    let same = old_keys
+        .iter()
+        .zip(new_keys)
+        .take_while(|(a, b)| a == b)
+        .count();
+    let mut rest = old.split_off(same);
+    let (old_keys, new_keys) = (&old_keys[same..], &new_keys[same..]);
+    let mut carried = old;
+    carried.reserve(new_keys.len());
     let mut k = 0;
     for key in new_keys {
         while k < old_keys.len() && old_keys[k] < *key {
             k += 1;
         }
         if k < old_keys.len() && old_keys[k] == *key {
-            carried.push(std::mem::take(&mut old[k]));
+            carried.push(std::mem::take(&mut rest[k]));
         } else {
             carried.push(PairContact::default());
         }
@@ -204,18 +214,23 @@ pub(crate) fn carry_over<K: Ord + Copy>(
     carried
 }
 
-/// Switching energy of the pairs a rebuild drops.
+/// Switching energy of the pairs a rebuild drops; both pair lists are sorted.
 pub(crate) fn dropped_switching<K: Ord + Copy>(
     old_keys: &[K],
     old: &[PairContact],
     new_keys: &[K],
 ) -> f64 {
-    old_keys
-        .iter()
-        .zip(old)
-        .filter(|(k, _)| new_keys.binary_search(k).is_err())
-        .map(|(_, c)| c.switched)
-        .sum()
+    let mut k = 0;
+    let mut dropped = 0.0;
+    for (key, contact) in old_keys.iter().zip(old) {
+        while k < new_keys.len() && new_keys[k] < *key {
+            k += 1;
+        }
+        if k == new_keys.len() || new_keys[k] != *key {
+            dropped += contact.switched;
+        }
+    }
+    dropped
 }
 
 /// For each grain, the contacts it takes part in, in a fixed order, so forces are summed the
@@ -258,6 +273,11 @@ impl Incidence {
 
     pub fn memory_bytes(&self) -> usize {
         self.start.capacity() * 4 + self.entries.capacity() * 8
+    }
+
+    /// Number of grains it was built for.
+    pub fn grains(&self) -> usize {
+        self.start.len().saturating_sub(1)
     }
 
     pub fn of(&self, grain: usize) -> &[(u32, bool)] {

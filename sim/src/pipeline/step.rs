@@ -201,59 +201,58 @@ impl World {
                 time: self.time,
             });
         }
-        let old_pairs = std::mem::take(&mut self.verlet.pairs);
-        let old_wall_pairs = std::mem::take(&mut self.verlet.wall_pairs);
         let mut verlet = std::mem::take(&mut self.verlet);
         let half_skin = self.skin / 2.0;
-        {
+        let old = {
             let this = &*self;
-            // Outlines within the skin: sub-contacts of cores grown by half the skin each.
-            let near = |i: usize, j: usize| {
+            // Outlines within the skin (and j's margin): sub-contacts of grown cores.
+            let near = |i: usize, j: usize, margin: f64| {
                 let (mut a, mut b) = (this.placed(i), this.placed(j));
                 a.radius += half_skin;
-                b.radius += half_skin;
+                b.radius += half_skin + margin;
                 let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                 core_core_sub_contacts(&a, &b, std::iter::empty, &mut found);
                 !found.is_empty()
             };
             let g = &this.grains;
-            // Pairs of two resting grains are kept, and the awake grains searched. A list
-            // reset by a new wall holds no pairs to keep: every mobile grain is searched.
-            let moving = if verlet.rebuilds > 0 {
-                &this.dormancy.awake
-            } else {
-                &this.mobile
-            };
-            verlet.rebuild_around_awake(
-                &old_pairs,
-                &old_wall_pairs,
+            verlet.update(
                 &g.position,
                 &g.angle,
                 &this.reach,
-                moving,
+                &this.arm,
+                &this.mobile,
                 &this.walls,
                 this.skin,
                 near,
-            );
-        }
+            )
+        };
         self.verlet = verlet;
         self.dormancy.woken = false;
-        self.switching_dropped +=
-            dropped_switching(&old_pairs, &self.pair_contacts, &self.verlet.pairs)
-                + dropped_switching(
-                    &old_wall_pairs,
-                    &self.wall_contacts,
-                    &self.verlet.wall_pairs,
-                );
-        self.pair_contacts = carry_over(&old_pairs, &mut self.pair_contacts, &self.verlet.pairs);
-        self.wall_contacts = carry_over(
-            &old_wall_pairs,
-            &mut self.wall_contacts,
-            &self.verlet.wall_pairs,
-        );
         let n = self.grains.len();
-        self.pair_incidence = Incidence::build(n, &self.verlet.pairs, true);
-        self.wall_incidence = Incidence::build(n, &self.verlet.wall_pairs, false);
+        // Unchanged lists (most updates while grains fall alone) keep their contacts in place.
+        if old.pairs != self.verlet.pairs || self.pair_incidence.grains() != n {
+            self.switching_dropped +=
+                dropped_switching(&old.pairs, &self.pair_contacts, &self.verlet.pairs);
+            self.pair_contacts = carry_over(
+                &old.pairs,
+                std::mem::take(&mut self.pair_contacts),
+                &self.verlet.pairs,
+            );
+            self.pair_incidence = Incidence::build(n, &self.verlet.pairs, true);
+        }
+        if old.wall_pairs != self.verlet.wall_pairs || self.wall_incidence.grains() != n {
+            self.switching_dropped += dropped_switching(
+                &old.wall_pairs,
+                &self.wall_contacts,
+                &self.verlet.wall_pairs,
+            );
+            self.wall_contacts = carry_over(
+                &old.wall_pairs,
+                std::mem::take(&mut self.wall_contacts),
+                &self.verlet.wall_pairs,
+            );
+            self.wall_incidence = Incidence::build(n, &self.verlet.wall_pairs, false);
+        }
         self.find_watched();
         // Splitting a pass over threads costs microseconds: not worth it for a few grains.
         let awake = self.dormancy.awake.iter().filter(|a| **a).count();
