@@ -97,13 +97,7 @@ mod tests {
     fn counting_and_sorting_give_the_same_order() {
         // A compact block of grains is counted into cells, a scattered one sorted: both must
         // give the entries in (row, column, grain) order.
-        let mut state = 99u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = super::super::uniform(99);
         let compact: Vec<Vec2> = (0..500)
             .map(|_| Vec2::new(next() * 0.2 - 0.1, next() * 0.3))
             .collect();

@@ -7,3 +7,15 @@ mod verlet_list;
 
 pub use cell_list::CellList;
 pub use verlet_list::{Replaced, VerletList, moved_past_half_skin};
+
+/// Uniform numbers in [0, 1) from a seed, for the tests' scattered grains.
+#[cfg(test)]
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    }
+}

@@ -204,13 +204,7 @@ mod tests {
 
     #[test]
     fn finds_the_same_pairs_as_brute_force() {
-        let mut state = 12345u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = super::super::uniform(12345);
         let n = 400;
         let positions: Vec<Vec2> = (0..n)
             .map(|_| Vec2::new(next() * 0.3, next() * 0.1 - 2.0))
@@ -262,13 +256,7 @@ mod tests {
         // whole skin between the searches of its neighbours; a third of them also drift at
         // up to a tenth of the skin a step, and are searched as they go. A neighbour searched
         // while a trembling grain is at the far end of its swing must still list it.
-        let mut state = 777u64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = super::super::uniform(777);
         let (n, skin) = (300, 0.001);
         let mut positions: Vec<Vec2> = (0..n)
             .map(|_| Vec2::new(next() * 0.12, next() * 0.06))
