@@ -94,26 +94,73 @@ impl Taps {
         if !self.inside(at, plane) {
             return self.sum_near_edge(at, plane, floor);
         }
+        let mut lanes = [0.0f32; LANES];
+        self.accumulate_inside(at, plane, floor, &mut lanes, 0..self.u.len());
+        (combine(lanes), self.weight)
+    }
+
+    /// Padded taps (a whole number of lanes).
+    pub fn padded_len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// Sum of the weights.
+    pub fn weight(&self) -> f32 {
+        self.weight
+    }
+
+    /// Sum of the weights of `taps` (a range of whole lanes).
+    pub fn weight_of(&self, taps: std::ops::Range<usize>) -> f32 {
+        self.w[taps].iter().sum()
+    }
+
+    /// Adds taps `taps` (a range of whole lanes) of an inside placement (see [`Taps::inside`])
+    /// to the lanes' partial sums: summing a list range after range gives the same lanes, to
+    /// the bit, as summing it at once, and [`Taps::lanes_total`] the sum [`Taps::sum`] gives.
+    pub fn accumulate_inside(
+        &self,
+        at: Placement,
+        plane: &Plane,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
+        assert!(
+            taps.start % LANES == 0 && taps.end % LANES == 0 && taps.end <= self.u.len(),
+            "tap ranges are whole lanes of the padded columns"
+        );
         assert!(
             plane.data.len() <= i32::MAX as usize,
             "plane too large for 32-bit tap indices"
         );
+        debug_assert!(self.inside(at, plane));
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: AVX2 is present, and `inside` keeps every bilinear neighbour in the plane.
-            return (
-                unsafe { self.sum_inside_avx2(at, plane, floor) },
-                self.weight,
-            );
+            // SAFETY: AVX2 is present, the range is whole lanes of the columns, and the caller
+            // keeps every bilinear neighbour in the plane (`inside`).
+            unsafe { self.accumulate_inside_avx2(at, plane, floor, lanes, taps) };
+            return;
         }
-        (self.sum_inside_scalar(at, plane, floor), self.weight)
+        self.accumulate_inside_scalar(at, plane, floor, lanes, taps);
+    }
+
+    /// The lanes' partial sums combined (in the fixed order every path uses).
+    pub fn lanes_total(lanes: [f32; LANES]) -> f32 {
+        combine(lanes)
     }
 
     /// The lane-interleaved sum, one tap at a time (the AVX2 path's operations, in its order).
-    fn sum_inside_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
-        let mut lanes = [0.0f32; LANES];
+    fn accumulate_inside_scalar(
+        &self,
+        at: Placement,
+        plane: &Plane,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
         let width = plane.width;
-        for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
+        for k in taps {
+            let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
             let (x, y) = at.apply(u, v);
             let (fx, fy) = (x - 0.5, y - 0.5);
             // Non-negative here, so truncation is the floor.
@@ -124,12 +171,36 @@ impl Taps {
             let (d, e) = (plane.data[i + width], plane.data[i + width + 1]);
             lanes[k % LANES] += w * blend(a, b, d, e, tx, ty).max(floor);
         }
+    }
+
+    #[cfg(test)]
+    fn sum_inside_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+        let mut lanes = [0.0f32; LANES];
+        self.accumulate_inside_scalar(at, plane, floor, &mut lanes, 0..self.u.len());
         combine(lanes)
     }
 
+    #[cfg(all(test, target_arch = "x86_64"))]
+    unsafe fn sum_inside_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+        let mut lanes = [0.0f32; LANES];
+        // SAFETY: the caller checks AVX2 and `inside`.
+        unsafe { self.accumulate_inside_avx2(at, plane, floor, &mut lanes, 0..self.u.len()) };
+        combine(lanes)
+    }
+
+    /// # Safety
+    /// AVX2 must be present, `taps` whole lanes of the padded columns, and the placement
+    /// inside the plane ([`Taps::inside`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn sum_inside_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+    unsafe fn accumulate_inside_avx2(
+        &self,
+        at: Placement,
+        plane: &Plane,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
         use std::arch::x86_64::*;
         let width = plane.width as i32;
         let data = plane.data.as_ptr();
@@ -139,9 +210,10 @@ impl Taps {
         let half = _mm256_set1_ps(0.5);
         let floor = _mm256_set1_ps(floor);
         let stride = _mm256_set1_epi32(width);
-        let mut acc = _mm256_setzero_ps();
-        for k in (0..self.u.len()).step_by(LANES) {
-            // SAFETY: k is a whole lane of the padded columns (`seal`).
+        // SAFETY: `lanes` holds exactly one vector.
+        let mut acc = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
+        for k in taps.step_by(LANES) {
+            // SAFETY: k is a whole lane of the padded columns (`seal`, and the caller).
             let (x, y, w) = unsafe { at.taps(self, k) };
             let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
             let (c, r) = (_mm256_cvttps_epi32(fx), _mm256_cvttps_epi32(fy));
@@ -166,10 +238,8 @@ impl Taps {
             // max(value, floor) as in f32::max for the non-NaN values a plane holds.
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
         }
-        let mut lanes = [0.0f32; LANES];
         // SAFETY: `lanes` holds exactly one vector.
         unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), acc) };
-        combine(lanes)
     }
 
     /// Taps near or beyond the edge (a sixth of the poses on a full-width frame): taps
@@ -432,6 +502,26 @@ mod tests {
             assert!((plain - scalar).abs() < 1e-4 * (1.0 + plain.abs()));
             assert!((n - taps.weight).abs() < 1e-5);
         }
+    }
+
+    /// Summing the taps range by range gives the lanes summing them at once gives.
+    #[test]
+    fn ranges_add_up_to_the_whole() {
+        let plane = noise_plane(64, 48);
+        let taps = some_taps();
+        let at = Placement {
+            x: 30.0,
+            y: 24.0,
+            sin: 0.6f32.sin(),
+            cos: 0.6f32.cos(),
+        };
+        let (whole, _) = taps.sum(at, &plane, 0.2);
+        let mut lanes = [0.0f32; LANES];
+        let n = taps.padded_len();
+        for k in (0..n).step_by(LANES) {
+            taps.accumulate_inside(at, &plane, 0.2, &mut lanes, k..k + LANES);
+        }
+        assert_eq!(Taps::lanes_total(lanes).to_bits(), whole.to_bits());
     }
 
     /// Near the edge, too, both paths give the same sums to the bit, and these are the plain
