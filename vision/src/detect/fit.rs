@@ -3,15 +3,15 @@
 //! successive parabolic steps along x, y and the angle.
 
 use super::model::{Model, Pose, Score};
-use super::plane::Plane;
+use super::plane::Bordered;
 
 /// The two resolution levels a fit works on.
 pub struct Levels<'a> {
-    pub fine: &'a Plane,
+    pub fine: &'a Bordered,
     /// Darkness not yet explained by accepted grains, full resolution.
-    pub fine_free: &'a Plane,
-    pub coarse: &'a Plane,
-    pub coarse_free: &'a Plane,
+    pub fine_free: &'a Bordered,
+    pub coarse: &'a Bordered,
+    pub coarse_free: &'a Bordered,
     pub fine_model: &'a Model,
     pub coarse_model: &'a Model,
     /// Downsampling factor between the levels.

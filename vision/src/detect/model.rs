@@ -10,7 +10,7 @@
 
 use crate::GrainShape;
 
-use super::plane::Plane;
+use super::plane::{Bordered, Plane};
 use super::taps::{LANES, Placement, Taps};
 
 /// Rounding radius of the grains' corners, as a fraction of the width D.
@@ -26,8 +26,10 @@ const HIGHLIGHT_WEIGHT: f32 = 8.0;
 /// Blocks each cue is summed in when a pose may be given up on partway.
 const BLOCKS: usize = 8;
 
-/// The order `score_unless_below` sums the cues in (indices into `Model::cues`): the most
-/// telling first, so that hopeless poses are given up on early.
+/// The order `score_unless_below` sums the cues in (indices into `Model::cues`): ring,
+/// interior, highlight, flanks, hole gave up on hopeless poses soonest (six lab photographs
+/// at 10 px/mm, 3.5 G coarse taps: 0.83 G spared, against 0.77 G interior first and 0.57 G
+/// highlight first).
 const SUMMING_ORDER: [usize; 5] = [2, 0, 3, 4, 1];
 
 /// Where a pose puts the model's taps.
@@ -321,7 +323,7 @@ impl Model {
 
     /// Scores a pose against the darkness `dark`; the interior is scored on `free`, the
     /// darkness not yet explained by accepted grains, so grains do not overlap.
-    pub fn score(&self, pose: Pose, dark: &Plane, free: &Plane) -> Score {
+    pub fn score(&self, pose: Pose, dark: &Bordered, free: &Bordered) -> Score {
         let at = placement(pose);
         self.finish(
             self.interior.sum(at, free, 0.0),
@@ -339,8 +341,8 @@ impl Model {
     pub fn score_unless_below(
         &self,
         pose: Pose,
-        dark: &Plane,
-        free: &Plane,
+        dark: &Bordered,
+        free: &Bordered,
         threshold: f32,
     ) -> Option<Score> {
         let at = placement(pose);
@@ -439,8 +441,15 @@ impl Model {
     }
 
     /// Adds this pose's opacity to the explained map (clamped to 1) and lowers the free
-    /// darkness (`dark` times what is not explained) to match.
-    pub fn paint(&self, pose: Pose, dark: &Plane, explained: &mut Plane, free: &mut Plane) {
+    /// darkness (`dark` times what is not explained) to match, in both its forms.
+    pub fn paint(
+        &self,
+        pose: Pose,
+        dark: &Plane,
+        explained: &mut Plane,
+        free: &mut Plane,
+        free_bordered: &mut Bordered,
+    ) {
         let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
@@ -460,6 +469,7 @@ impl Model {
                     let e = &mut explained.data[i];
                     *e = (*e + cov).min(1.0);
                     free.data[i] = dark.data[i] * (1.0 - *e);
+                    free_bordered.set(c as usize, r as usize, free.data[i]);
                 }
             }
         }
@@ -504,11 +514,12 @@ mod tests {
     /// to the bit, so the coarse search's finalists do not depend on what was given up.
     #[test]
     fn giving_up_is_exact() {
-        let dark = patchy_plane(120, 90);
-        let free = Plane {
-            data: dark.data.iter().map(|d| d * 0.7).collect(),
-            ..dark.clone()
-        };
+        let raw = patchy_plane(120, 90);
+        let free = Bordered::new(&Plane {
+            data: raw.data.iter().map(|d| d * 0.7).collect(),
+            ..raw.clone()
+        });
+        let dark = Bordered::new(&raw);
         for (shape, floor) in [
             (GrainShape::nut(6.9e-3), 0.0),
             (
