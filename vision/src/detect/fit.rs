@@ -128,22 +128,31 @@ pub fn fit(
     let step = position_step.max(f);
     // The coarse level barely resolves a rod's highlight: the finalists, climbed there,
     // are compared at full resolution.
-    let fine_eval = |p: Pose| levels.fine_model.score(p, levels.fine, levels.fine_free);
-    let (winner, winner_score) = finalists
-        .into_iter()
-        .map(|p| {
-            let (p, _) = climb(
-                &coarse_eval,
-                p,
-                coarse_eval(p),
-                step,
-                0.5 * COARSE_ANGLE_STEP,
-                2,
-            );
-            (p, fine_eval(p))
-        })
-        .max_by(|a, b| a.1.total.total_cmp(&b.1.total))
-        .expect("at least one pose is tried");
+    // Only the best needs its full score: a finalist certainly below it is given up on. On
+    // ties the later finalist wins.
+    let mut best: Option<(Pose, Score)> = None;
+    for p in finalists {
+        let (p, _) = climb(
+            &coarse_eval,
+            p,
+            coarse_eval(p),
+            step,
+            0.5 * COARSE_ANGLE_STEP,
+            2,
+        );
+        let threshold = best.map_or(f32::NEG_INFINITY, |(_, s)| s.total);
+        let Some(score) =
+            levels
+                .fine_model
+                .score_unless_below(p, levels.fine, levels.fine_free, threshold)
+        else {
+            continue;
+        };
+        if best.is_none_or(|(_, s)| score.total.total_cmp(&s.total).is_ge()) {
+            best = Some((p, score));
+        }
+    }
+    let (winner, winner_score) = best.expect("at least one pose is tried");
     refine(levels, winner, winner_score, 0.5 * f)
 }
 
