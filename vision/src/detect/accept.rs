@@ -8,7 +8,7 @@ use rayon::prelude::*;
 use super::DetectParams;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
-use super::plane::Plane;
+use super::plane::{Bordered, Plane};
 use super::ridges;
 use super::seeds::{self, BrightBlob};
 use crate::GrainShape;
@@ -115,7 +115,11 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     // accepted is redone.
     let reach = length.hypot(width) + 2.0;
     let mut coarse_explained = explained.downsample(factor);
-    let mut coarse_free = coarse.clone();
+    // What the tap sums read: the planes with a border repeating their edge.
+    let dark_bordered = Bordered::new(dark);
+    let coarse_bordered = Bordered::new(&coarse);
+    let mut free_bordered = dark_bordered.clone();
+    let mut coarse_free = coarse_bordered.clone();
     for round in 0..params.max_rounds.max(1) {
         let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
             list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
@@ -140,9 +144,9 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             break;
         }
         let levels = Levels {
-            fine: dark,
-            fine_free: &free,
-            coarse: &coarse,
+            fine: &dark_bordered,
+            fine_free: &free_bordered,
+            coarse: &coarse_bordered,
             coarse_free: &coarse_free,
             fine_model: &fine_model,
             coarse_model: &coarse_model,
@@ -180,7 +184,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             {
                 continue;
             }
-            let now = fine_model.score(ft.pose, dark, &free);
+            let now = fine_model.score(ft.pose, &dark_bordered, &free_bordered);
             // Fitted without knowing a neighbour accepted this round: if that neighbour
             // takes part of this outline, fit again next round against the updated map.
             if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
@@ -193,7 +197,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 failed.push(seed.0);
                 continue;
             }
-            fine_model.paint(ft.pose, dark, &mut explained, &mut free);
+            fine_model.paint(ft.pose, dark, &mut explained, &mut free, &mut free_bordered);
             this_round.push(centre);
             found.push(Found {
                 pose: ft.pose,
@@ -208,7 +212,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         failed.retain(|s| !taken(*s, reach, &this_round));
         pending = deferred;
         coarse_explained = explained.downsample(factor);
-        coarse_free = free.downsample(factor);
+        coarse_free = Bordered::new(&free.downsample(factor));
     }
     found
 }

@@ -10,8 +10,8 @@
 
 use crate::GrainShape;
 
-use super::plane::Plane;
-use super::taps::{Placement, Taps};
+use super::plane::{Bordered, Plane};
+use super::taps::{LANES, Placement, Taps};
 
 /// Rounding radius of the grains' corners, as a fraction of the width D.
 const ROUNDING: f64 = 0.05;
@@ -22,6 +22,25 @@ const HOLE_WEIGHT: f32 = 1.0;
 /// narrow line: it needs a large weight to count against the interior in dense clusters,
 /// where it is the only cue that tells one rod from two.
 const HIGHLIGHT_WEIGHT: f32 = 8.0;
+
+/// Blocks each cue is summed in when a pose may be given up on partway.
+const BLOCKS: usize = 8;
+
+/// The order `score_unless_below` sums the cues in (indices into `Model::cues`): ring,
+/// interior, highlight, flanks, hole gave up on hopeless poses soonest (six lab photographs
+/// at 10 px/mm, 3.5 G coarse taps: 0.83 G spared, against 0.77 G interior first and 0.57 G
+/// highlight first).
+const SUMMING_ORDER: [usize; 5] = [2, 0, 3, 4, 1];
+
+/// Where a pose puts the model's taps.
+fn placement(pose: Pose) -> Placement {
+    Placement {
+        x: pose.x as f32,
+        y: pose.y as f32,
+        sin: pose.phi.sin() as f32,
+        cos: pose.phi.cos() as f32,
+    }
+}
 
 /// A pose in continuous pixel coordinates (column, row; row 0 at the top). `phi` is the
 /// frame angle (counter-clockwise with y up): the long axis points along (cos phi, -sin phi).
@@ -69,6 +88,11 @@ pub struct Model {
     highlight_floor: f32,
     /// Covered area of the whole outline (interior and hole), the denominator of `visible`.
     area: f32,
+    /// Per cue (in the order of `cues`), the ends of its blocks for `score_unless_below`
+    /// (whole lanes) and the weight of its taps from each block's start on.
+    blocks: [Vec<(usize, f32)>; 5],
+    /// Bound on the f32 rounding of a total (a ten-thousandth of its largest magnitude).
+    rounding_margin: f64,
 }
 
 /// Score of one pose.
@@ -186,6 +210,8 @@ impl Model {
             flank: Taps::default(),
             highlight_floor: 0.0,
             area: 0.0,
+            blocks: Default::default(),
+            rounding_margin: 0.0,
         };
         for bv in -blocks_v..blocks_v {
             for bu in -blocks_u..blocks_u {
@@ -248,6 +274,29 @@ impl Model {
         ] {
             taps.seal();
         }
+        let blocks = [
+            &model.interior,
+            &model.hole,
+            &model.ring,
+            &model.highlight,
+            &model.flank,
+        ]
+        .map(|taps| {
+            let n = taps.padded_len();
+            let block = (n / LANES).div_ceil(BLOCKS).max(1) * LANES;
+            (0..n)
+                .step_by(block)
+                .map(|start| ((start + block).min(n), taps.weight_of(start..n)))
+                .collect()
+        });
+        model.blocks = blocks;
+        model.rounding_margin = 1e-4
+            * (2.0 * f64::from(model.interior.weight())
+                + 2.0 * f64::from(HOLE_WEIGHT * model.hole.weight())
+                + 2.0 * f64::from(RING_WEIGHT * model.ring.weight())
+                + f64::from(HIGHLIGHT_WEIGHT)
+                    * f64::from(model.highlight.weight().abs() + model.flank.weight().abs())
+                + 1.0);
         model
     }
 
@@ -274,18 +323,102 @@ impl Model {
 
     /// Scores a pose against the darkness `dark`; the interior is scored on `free`, the
     /// darkness not yet explained by accepted grains, so grains do not overlap.
-    pub fn score(&self, pose: Pose, dark: &Plane, free: &Plane) -> Score {
-        let at = Placement {
-            x: pose.x as f32,
-            y: pose.y as f32,
-            sin: pose.phi.sin() as f32,
-            cos: pose.phi.cos() as f32,
+    pub fn score(&self, pose: Pose, dark: &Bordered, free: &Bordered) -> Score {
+        let at = placement(pose);
+        self.finish(
+            self.interior.sum(at, free, 0.0),
+            self.hole.sum(at, dark, 0.0),
+            self.ring.sum(at, dark, 0.0),
+            self.highlight.sum(at, dark, self.highlight_floor).0,
+            self.flank.sum(at, dark, 0.0).0,
+        )
+    }
+
+    /// [`Model::score`], or `None` when the pose certainly scores below `threshold`: each
+    /// cue is summed a block of taps at a time, and the pose given up on as soon as even the
+    /// most favourable darkness (in [0, 1]) under the taps not yet summed could not lift the
+    /// total to the threshold. Poses near the plane's edge are always scored in full.
+    pub fn score_unless_below(
+        &self,
+        pose: Pose,
+        dark: &Bordered,
+        free: &Bordered,
+        threshold: f32,
+    ) -> Option<Score> {
+        let at = placement(pose);
+        let cues = self.cues();
+        let planes = cues.map(|(_, on_free, _, _)| if on_free { free } else { dark });
+        if !cues.iter().zip(&planes).all(|(c, p)| c.0.inside(at, p)) {
+            return Some(self.score(pose, dark, free));
+        }
+        // What the total is made of: a constant, and per cue a coefficient times its sum.
+        let mut known = f64::from(HOLE_WEIGHT * self.hole.weight())
+            + f64::from(RING_WEIGHT * self.ring.weight())
+            - f64::from(self.interior.weight());
+        // The most the taps from a block's start on can add: all dark where that raises the
+        // total, else as light as their floor allows.
+        let most = |cue: usize, rest: f32| {
+            let (_, _, floor, coefficient) = cues[cue];
+            let m = coefficient * f64::from(rest);
+            if m > 0.0 { m } else { m * f64::from(floor) }
         };
-        let (int_d, int_w) = self.interior.sum(at, free, 0.0);
-        let (hole_d, hole_w) = self.hole.sum(at, dark, 0.0);
-        let (ring_d, ring_w) = self.ring.sum(at, dark, 0.0);
-        let (axis_d, _) = self.highlight.sum(at, dark, self.highlight_floor);
-        let (flank_d, _) = self.flank.sum(at, dark, 0.0);
+        let mut others: f64 = (0..cues.len())
+            .map(|k| self.blocks[k].first().map_or(0.0, |b| most(k, b.1)))
+            .sum();
+        let cut = threshold as f64 - self.rounding_margin;
+        let mut sums = [0.0f32; 5];
+        for k in SUMMING_ORDER {
+            let (taps, _, floor, coefficient) = cues[k];
+            others -= self.blocks[k].first().map_or(0.0, |b| most(k, b.1));
+            let mut lanes = [0.0f32; LANES];
+            let mut start = 0;
+            for &(end, rest) in &self.blocks[k] {
+                let partial = coefficient * Taps::lanes_total(lanes) as f64;
+                if known + partial + most(k, rest) + others < cut {
+                    return None;
+                }
+                taps.accumulate_inside(at, planes[k], floor, &mut lanes, start..end);
+                start = end;
+            }
+            sums[k] = Taps::lanes_total(lanes);
+            known += coefficient * sums[k] as f64;
+        }
+        Some(self.finish(
+            (sums[0], self.interior.weight()),
+            (sums[1], self.hole.weight()),
+            (sums[2], self.ring.weight()),
+            sums[3],
+            sums[4],
+        ))
+    }
+
+    /// The cues as `score_unless_below` sums them: taps, whether on the free darkness, floor,
+    /// and the coefficient of their sum in the total.
+    fn cues(&self) -> [(&Taps, bool, f32, f64); 5] {
+        [
+            (&self.interior, true, 0.0, 2.0),
+            (&self.hole, false, 0.0, -2.0 * f64::from(HOLE_WEIGHT)),
+            (&self.ring, false, 0.0, -2.0 * f64::from(RING_WEIGHT)),
+            (
+                &self.highlight,
+                false,
+                self.highlight_floor,
+                -f64::from(HIGHLIGHT_WEIGHT),
+            ),
+            (&self.flank, false, 0.0, -f64::from(HIGHLIGHT_WEIGHT)),
+        ]
+    }
+
+    /// The score from the groups' sums (darkness, weight): one formula for every way of
+    /// summing them, so they agree to the bit.
+    fn finish(
+        &self,
+        (int_d, int_w): (f32, f32),
+        (hole_d, hole_w): (f32, f32),
+        (ring_d, ring_w): (f32, f32),
+        axis_d: f32,
+        flank_d: f32,
+    ) -> Score {
         let hl_d = axis_d + flank_d;
         let inside = 2.0 * int_d - int_w;
         let hole = hole_w - 2.0 * hole_d;
@@ -308,8 +441,15 @@ impl Model {
     }
 
     /// Adds this pose's opacity to the explained map (clamped to 1) and lowers the free
-    /// darkness (`dark` times what is not explained) to match.
-    pub fn paint(&self, pose: Pose, dark: &Plane, explained: &mut Plane, free: &mut Plane) {
+    /// darkness (`dark` times what is not explained) to match, in both its forms.
+    pub fn paint(
+        &self,
+        pose: Pose,
+        dark: &Plane,
+        explained: &mut Plane,
+        free: &mut Plane,
+        free_bordered: &mut Bordered,
+    ) {
         let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
@@ -329,6 +469,7 @@ impl Model {
                     let e = &mut explained.data[i];
                     *e = (*e + cov).min(1.0);
                     free.data[i] = dark.data[i] * (1.0 - *e);
+                    free_bordered.set(c as usize, r as usize, free.data[i]);
                 }
             }
         }
@@ -345,5 +486,79 @@ impl Model {
             // Inverse of u = dx cos - dy sin, v = dx sin + dy cos.
             (pose.x + u * c + v * s, pose.y - u * s + v * c)
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A darkness with grain-sized dark patches and noise, in [0, 1] as the detector's are.
+    fn patchy_plane(width: usize, height: usize) -> Plane {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut plane = Plane::new(width, height, 0.0);
+        for r in 0..height {
+            for c in 0..width {
+                state = state
+                    .wrapping_mul(6_364_136_223_846_793_005)
+                    .wrapping_add(1_442_695_040_888_963_407);
+                let noise = (state >> 40) as f32 / (1u64 << 24) as f32;
+                let patch = ((c / 13 + r / 7) % 3 != 0) as u8 as f32;
+                plane.data[r * width + c] = (0.8 * patch + 0.2 * noise).clamp(0.0, 1.0);
+            }
+        }
+        plane
+    }
+
+    /// A pose given up on scores below the threshold; a pose kept scores what `score` gives,
+    /// to the bit, so the coarse search's finalists do not depend on what was given up.
+    #[test]
+    fn giving_up_is_exact() {
+        let raw = patchy_plane(120, 90);
+        let free = Bordered::new(&Plane {
+            data: raw.data.iter().map(|d| d * 0.7).collect(),
+            ..raw.clone()
+        });
+        let dark = Bordered::new(&raw);
+        for (shape, floor) in [
+            (GrainShape::nut(6.9e-3), 0.0),
+            (
+                GrainShape::Rod {
+                    length: 8.9e-3,
+                    width: 3e-3,
+                },
+                0.6,
+            ),
+        ] {
+            let model = Model::with_softness(shape, 3.3e3, 2.0).with_highlight_floor(floor);
+            let (mut dropped, mut kept) = (0, 0);
+            for k in 0..200 {
+                let pose = Pose {
+                    x: 25.0 + (k % 17) as f64 * 4.3,
+                    y: 20.0 + (k % 11) as f64 * 4.9,
+                    phi: k as f64 * 0.31,
+                };
+                let full = model.score(pose, &dark, &free);
+                for threshold in [-1e9, full.total - 5.0, full.total, full.total + 5.0, 1e9] {
+                    match model.score_unless_below(pose, &dark, &free, threshold) {
+                        None => {
+                            assert!(full.total < threshold);
+                            dropped += 1;
+                        }
+                        Some(s) => {
+                            assert_eq!(s.total.to_bits(), full.total.to_bits());
+                            assert_eq!(s.agreement.to_bits(), full.agreement.to_bits());
+                            assert_eq!(s.visible.to_bits(), full.visible.to_bits());
+                            kept += 1;
+                        }
+                    }
+                }
+            }
+            // Both outcomes occur, so the test says something about each.
+            assert!(
+                dropped > 100 && kept > 400,
+                "{dropped} dropped, {kept} kept"
+            );
+        }
     }
 }

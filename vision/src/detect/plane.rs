@@ -97,3 +97,85 @@ impl Plane {
         }
     }
 }
+
+/// A plane with a border of one pixel repeating its edge, what the tap sums read: a pixel's
+/// right and lower neighbours are always there (read as one pair), and a neighbour index
+/// clamped onto the border reads what clamping it onto the plane would.
+#[derive(Clone, Debug)]
+pub struct Bordered {
+    /// Size of the plane inside the border.
+    pub width: usize,
+    pub height: usize,
+    /// Row length with the border (width + 2).
+    pub stride: usize,
+    /// height + 2 rows of `stride`: pixel (c, r) of the plane at (r + 1) * stride + c + 1.
+    pub data: Vec<f32>,
+}
+
+impl Bordered {
+    pub fn new(plane: &Plane) -> Self {
+        let (width, height) = (plane.width, plane.height);
+        let stride = width + 2;
+        let mut data = Vec::with_capacity(stride * (height + 2));
+        for r in 0..height + 2 {
+            let row = r.saturating_sub(1).min(height.saturating_sub(1));
+            let line = &plane.data[row * width..(row + 1) * width];
+            data.push(line.first().copied().unwrap_or(0.0));
+            data.extend_from_slice(line);
+            data.push(line.last().copied().unwrap_or(0.0));
+        }
+        Bordered {
+            width,
+            height,
+            stride,
+            data,
+        }
+    }
+
+    /// Sets pixel (col, row) of the plane, and its copies in the border.
+    pub fn set(&mut self, col: usize, row: usize, value: f32) {
+        let copies = |i: usize, n: usize| {
+            // Padded index of the pixel, and of its copy when it lies on an edge.
+            let first = (i == 0).then_some(0);
+            let last = (i + 1 == n).then_some(n + 1);
+            [Some(i + 1), first, last].into_iter().flatten()
+        };
+        for r in copies(row, self.height) {
+            for c in copies(col, self.width) {
+                self.data[r * self.stride + c] = value;
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The border repeats the edge, also after pixels on the edge and in corners are set.
+    #[test]
+    fn border_repeats_the_edge() {
+        let mut plane = Plane::new(4, 3, 0.0);
+        for (i, v) in plane.data.iter_mut().enumerate() {
+            *v = i as f32;
+        }
+        let mut bordered = Bordered::new(&plane);
+        for (c, r, v) in [
+            (0, 0, 50.0),
+            (3, 2, 60.0),
+            (1, 0, 70.0),
+            (3, 1, 80.0),
+            (2, 1, 90.0),
+        ] {
+            plane.data[r * 4 + c] = v;
+            bordered.set(c, r, v);
+        }
+        for r in -1..=3i32 {
+            for c in -1..=4i32 {
+                let clamped = plane.at(c.clamp(0, 3) as usize, r.clamp(0, 2) as usize);
+                let i = (r + 1) as usize * bordered.stride + (c + 1) as usize;
+                assert_eq!(bordered.data[i], clamped, "at ({c}, {r})");
+            }
+        }
+    }
+}

@@ -10,6 +10,8 @@
 #[cfg(target_arch = "x86_64")]
 use std::arch::x86_64::{__m256, __m256d};
 
+use super::plane::Bordered;
+#[cfg(test)]
 use super::plane::Plane;
 
 /// Taps summed side by side: one AVX2 vector of f32.
@@ -75,7 +77,7 @@ impl Taps {
 
     /// Whether every tap of a placement samples at least one pixel inside the plane's edge, so
     /// that its four bilinear neighbours exist.
-    pub fn inside(&self, at: Placement, plane: &Plane) -> bool {
+    pub fn inside(&self, at: Placement, plane: &Bordered) -> bool {
         let (s, c) = (at.sin.abs(), at.cos.abs());
         let ex = c * self.reach_u + s * self.reach_v + 1.0;
         let ey = s * self.reach_u + c * self.reach_v + 1.0;
@@ -87,61 +89,133 @@ impl Taps {
 
     /// Sums of weight x max(value, floor) and of the weights over the taps that fall inside
     /// the plane (values bilinear, pixel centres at integer + 0.5).
-    pub fn sum(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+    pub fn sum(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
         if self.len == 0 {
             return (0.0, 0.0);
         }
         if !self.inside(at, plane) {
             return self.sum_near_edge(at, plane, floor);
         }
+        let mut lanes = [0.0f32; LANES];
+        self.accumulate_inside(at, plane, floor, &mut lanes, 0..self.u.len());
+        (combine(lanes), self.weight)
+    }
+
+    /// Padded taps (a whole number of lanes).
+    pub fn padded_len(&self) -> usize {
+        self.u.len()
+    }
+
+    /// Sum of the weights.
+    pub fn weight(&self) -> f32 {
+        self.weight
+    }
+
+    /// Sum of the weights of `taps` (a range of whole lanes).
+    pub fn weight_of(&self, taps: std::ops::Range<usize>) -> f32 {
+        self.w[taps].iter().sum()
+    }
+
+    /// Adds taps `taps` (a range of whole lanes) of an inside placement (see [`Taps::inside`])
+    /// to the lanes' partial sums: summing a list range after range gives the same lanes, to
+    /// the bit, as summing it at once, and [`Taps::lanes_total`] the sum [`Taps::sum`] gives.
+    pub fn accumulate_inside(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
+        assert!(
+            taps.start % LANES == 0 && taps.end % LANES == 0 && taps.end <= self.u.len(),
+            "tap ranges are whole lanes of the padded columns"
+        );
         assert!(
             plane.data.len() <= i32::MAX as usize,
             "plane too large for 32-bit tap indices"
         );
+        debug_assert!(self.inside(at, plane));
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: AVX2 is present, and `inside` keeps every bilinear neighbour in the plane.
-            return (
-                unsafe { self.sum_inside_avx2(at, plane, floor) },
-                self.weight,
-            );
+            // SAFETY: AVX2 is present, the range is whole lanes of the columns, and the caller
+            // keeps every bilinear neighbour in the plane (`inside`).
+            unsafe { self.accumulate_inside_avx2(at, plane, floor, lanes, taps) };
+            return;
         }
-        (self.sum_inside_scalar(at, plane, floor), self.weight)
+        self.accumulate_inside_scalar(at, plane, floor, lanes, taps);
+    }
+
+    /// The lanes' partial sums combined (in the fixed order every path uses).
+    pub fn lanes_total(lanes: [f32; LANES]) -> f32 {
+        combine(lanes)
     }
 
     /// The lane-interleaved sum, one tap at a time (the AVX2 path's operations, in its order).
-    fn sum_inside_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
-        let mut lanes = [0.0f32; LANES];
-        let width = plane.width;
-        for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
+    fn accumulate_inside_scalar(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
+        let stride = plane.stride;
+        for k in taps {
+            let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
             let (x, y) = at.apply(u, v);
             let (fx, fy) = (x - 0.5, y - 0.5);
             // Non-negative here, so truncation is the floor.
             let (c, r) = (fx as i32, fy as i32);
             let (tx, ty) = (fx - c as f32, fy - r as f32);
-            let i = r as usize * width + c as usize;
+            let i = (r as usize + 1) * stride + c as usize + 1;
             let (a, b) = (plane.data[i], plane.data[i + 1]);
-            let (d, e) = (plane.data[i + width], plane.data[i + width + 1]);
+            let (d, e) = (plane.data[i + stride], plane.data[i + stride + 1]);
             lanes[k % LANES] += w * blend(a, b, d, e, tx, ty).max(floor);
         }
+    }
+
+    #[cfg(test)]
+    fn sum_inside_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> f32 {
+        let mut lanes = [0.0f32; LANES];
+        self.accumulate_inside_scalar(at, plane, floor, &mut lanes, 0..self.u.len());
         combine(lanes)
     }
 
+    #[cfg(all(test, target_arch = "x86_64"))]
+    unsafe fn sum_inside_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> f32 {
+        let mut lanes = [0.0f32; LANES];
+        // SAFETY: the caller checks AVX2 and `inside`.
+        unsafe { self.accumulate_inside_avx2(at, plane, floor, &mut lanes, 0..self.u.len()) };
+        combine(lanes)
+    }
+
+    /// # Safety
+    /// AVX2 must be present, `taps` whole lanes of the padded columns, and the placement
+    /// inside the plane ([`Taps::inside`]).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn sum_inside_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> f32 {
+    unsafe fn accumulate_inside_avx2(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
         use std::arch::x86_64::*;
-        let width = plane.width as i32;
-        let data = plane.data.as_ptr();
-        // SAFETY: the plane has at least one row below the first (`inside`).
-        let below = unsafe { data.add(plane.width) };
+        let width = plane.stride as i32;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
         let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
         let floor = _mm256_set1_ps(floor);
         let stride = _mm256_set1_epi32(width);
-        let mut acc = _mm256_setzero_ps();
-        for k in (0..self.u.len()).step_by(LANES) {
-            // SAFETY: k is a whole lane of the padded columns (`seal`).
+        // SAFETY: `lanes` holds exactly one vector.
+        let mut acc = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
+        for k in taps.step_by(LANES) {
+            // SAFETY: k is a whole lane of the padded columns (`seal`, and the caller).
             let (x, y, w) = unsafe { at.taps(self, k) };
             let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
             let (c, r) = (_mm256_cvttps_epi32(fx), _mm256_cvttps_epi32(fy));
@@ -166,15 +240,13 @@ impl Taps {
             // max(value, floor) as in f32::max for the non-NaN values a plane holds.
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
         }
-        let mut lanes = [0.0f32; LANES];
         // SAFETY: `lanes` holds exactly one vector.
         unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), acc) };
-        combine(lanes)
     }
 
     /// Taps near or beyond the edge (a sixth of the poses on a full-width frame): taps
     /// outside the plane count for nothing, neighbours beyond the edge are clamped onto it.
-    fn sum_near_edge(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+    fn sum_near_edge(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present.
@@ -183,13 +255,13 @@ impl Taps {
         self.sum_near_edge_scalar(at, plane, floor)
     }
 
-    fn sum_near_edge_scalar(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+    fn sum_near_edge_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
         let (mut sums, mut weights) = ([0.0f32; LANES], [0.0f32; LANES]);
         for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
             let (x, y) = at.apply(u, v);
             let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
             let w = if seen { w } else { 0.0 };
-            sums[k % LANES] += w * bilinear_clamped(plane, x, y).max(floor);
+            sums[k % LANES] += w * bilinear_bordered(plane, x, y).max(floor);
             weights[k % LANES] += w;
         }
         (combine(sums), combine(weights))
@@ -197,22 +269,23 @@ impl Taps {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn sum_near_edge_avx2(&self, at: Placement, plane: &Plane, floor: f32) -> (f32, f32) {
+    unsafe fn sum_near_edge_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
         use std::arch::x86_64::*;
-        let data = plane.data.as_ptr();
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
         let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
         let zero = _mm256_setzero_ps();
         let (width, height) = (plane.width as f32, plane.height as f32);
         let (wf, hf) = (_mm256_set1_ps(width), _mm256_set1_ps(height));
         let floor = _mm256_set1_ps(floor);
-        let stride = _mm256_set1_epi32(plane.width as i32);
+        let stride = _mm256_set1_epi32(plane.stride as i32);
         let (last_c, last_r) = (
             _mm256_set1_epi32(plane.width as i32 - 1),
             _mm256_set1_epi32(plane.height as i32 - 1),
         );
-        let one = _mm256_set1_epi32(1);
-        let zero_i = _mm256_setzero_si256();
+        let border = _mm256_set1_epi32(-1);
         let (mut acc, mut acc_w) = (_mm256_setzero_ps(), _mm256_setzero_ps());
         for k in (0..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
@@ -231,23 +304,25 @@ impl Taps {
             let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
             let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
             let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
-            let (c, r) = (_mm256_cvttps_epi32(cf), _mm256_cvttps_epi32(rf));
+            // Clamped onto the border, a pixel and its right neighbour read what clamping
+            // each onto the plane would.
             let clamp =
-                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, zero_i), last);
-            let (c0, c1) = (clamp(c, last_c), clamp(_mm256_add_epi32(c, one), last_c));
-            let (r0, r1) = (
-                _mm256_mullo_epi32(clamp(r, last_r), stride),
-                _mm256_mullo_epi32(clamp(_mm256_add_epi32(r, one), last_r), stride),
-            );
-            // SAFETY (gathers): every index is clamped into the plane.
-            let (a, b, d, e) = unsafe {
+                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, border), last);
+            let c = clamp(_mm256_cvttps_epi32(cf), last_c);
+            let r = clamp(_mm256_cvttps_epi32(rf), last_r);
+            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
+            // SAFETY (gathers): every index is clamped into the bordered plane.
+            let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
                 (
-                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r0, c0)),
-                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r0, c1)),
-                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r1, c0)),
-                    _mm256_i32gather_ps::<4>(data, _mm256_add_epi32(r1, c1)),
+                    _mm256_i32gather_pd::<4>(data as *const f64, first),
+                    _mm256_i32gather_pd::<4>(data as *const f64, last),
+                    _mm256_i32gather_pd::<4>(below as *const f64, first),
+                    _mm256_i32gather_pd::<4>(below as *const f64, last),
                 )
             };
+            let (a, b) = split_pairs(top_lo, top_hi);
+            let (d, e) = split_pairs(bottom_lo, bottom_hi);
             let value = blend_x8(a, b, d, e, tx, ty);
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
             acc_w = _mm256_add_ps(acc_w, w);
@@ -347,8 +422,23 @@ fn combine(l: [f32; LANES]) -> f32 {
     ((l[0] + l[4]) + (l[1] + l[5])) + ((l[2] + l[6]) + (l[3] + l[7]))
 }
 
-/// Bilinear value at continuous pixel coordinates, neighbours clamped onto the plane.
+/// Bilinear value at continuous pixel coordinates, neighbours clamped onto the plane (read
+/// clamped onto its border, as the vector path does).
 #[inline]
+fn bilinear_bordered(p: &Bordered, x: f32, y: f32) -> f32 {
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (cf, rf) = (fx.floor(), fy.floor());
+    let (tx, ty) = (fx - cf, fy - rf);
+    let c = (cf as i32).clamp(-1, p.width as i32 - 1);
+    let r = (rf as i32).clamp(-1, p.height as i32 - 1);
+    let i = (r + 1) as usize * p.stride + (c + 1) as usize;
+    let (a, b) = (p.data[i], p.data[i + 1]);
+    let (d, e) = (p.data[i + p.stride], p.data[i + p.stride + 1]);
+    blend(a, b, d, e, tx, ty)
+}
+
+/// Bilinear value at continuous pixel coordinates, neighbours clamped onto the plane.
+#[cfg(test)]
 fn bilinear_clamped(p: &Plane, x: f32, y: f32) -> f32 {
     let (fx, fy) = (x - 0.5, y - 0.5);
     let (cf, rf) = (fx.floor(), fy.floor());
@@ -411,7 +501,8 @@ mod tests {
     /// depend on the processor; both agree with a plain sum of bilinear values.
     #[test]
     fn paths_agree() {
-        let plane = noise_plane(64, 48);
+        let raw = noise_plane(64, 48);
+        let plane = Bordered::new(&raw);
         let taps = some_taps();
         for k in 0..50 {
             let phi = k as f32 * 0.37;
@@ -434,11 +525,33 @@ mod tests {
         }
     }
 
+    /// Summing the taps range by range gives the lanes summing them at once gives.
+    #[test]
+    fn ranges_add_up_to_the_whole() {
+        let raw = noise_plane(64, 48);
+        let plane = Bordered::new(&raw);
+        let taps = some_taps();
+        let at = Placement {
+            x: 30.0,
+            y: 24.0,
+            sin: 0.6f32.sin(),
+            cos: 0.6f32.cos(),
+        };
+        let (whole, _) = taps.sum(at, &plane, 0.2);
+        let mut lanes = [0.0f32; LANES];
+        let n = taps.padded_len();
+        for k in (0..n).step_by(LANES) {
+            taps.accumulate_inside(at, &plane, 0.2, &mut lanes, k..k + LANES);
+        }
+        assert_eq!(Taps::lanes_total(lanes).to_bits(), whole.to_bits());
+    }
+
     /// Near the edge, too, both paths give the same sums to the bit, and these are the plain
     /// sums over the taps that fall inside the plane.
     #[test]
     fn edge_paths_agree() {
-        let plane = noise_plane(40, 30);
+        let raw = noise_plane(40, 30);
+        let plane = Bordered::new(&raw);
         let taps = some_taps();
         for k in 0..60 {
             let phi = k as f32 * 0.29;
@@ -458,7 +571,7 @@ mod tests {
             for t in 0..taps.len {
                 let (x, y) = at.apply(taps.u[t], taps.v[t]);
                 if x >= 0.0 && y >= 0.0 && x < 40.0 && y < 30.0 {
-                    plain += taps.w[t] * bilinear_clamped(&plane, x, y).max(0.3);
+                    plain += taps.w[t] * bilinear_clamped(&raw, x, y).max(0.3);
                     plain_n += taps.w[t];
                 }
             }
@@ -470,7 +583,7 @@ mod tests {
     /// Near the edge only the taps inside the plane count, with their weights.
     #[test]
     fn taps_outside_are_skipped() {
-        let plane = Plane::new(10, 10, 1.0);
+        let plane = Bordered::new(&Plane::new(10, 10, 1.0));
         let mut taps = Taps::default();
         taps.push(0.0, 0.0, 1.0);
         taps.push(-20.0, 0.0, 2.0);
