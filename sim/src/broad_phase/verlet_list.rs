@@ -41,31 +41,6 @@ impl VerletList {
             .any(|((p, a, arm), (p0, a0))| moved_past_half_skin(*p - p0, a - a0, *arm, skin))
     }
 
-    /// Rebuilds from scratch: every grain searched, nothing kept. `reach[i]` is grain i's
-    /// bounding radius; `mobile[i]` is false for fixed grains (two fixed grains never
-    /// interact). `near(i, j, margin)` is the exact test of a pair whose bounding disks come
-    /// within the skin (plus `margin` for j): it keeps only pairs whose outlines do, so the
-    /// narrow phase does not visit, every step, neighbours that cannot touch before the next
-    /// rebuild.
-    #[allow(clippy::too_many_arguments)]
-    pub fn rebuild(
-        &mut self,
-        positions: &[Vec2],
-        angles: &[f64],
-        reach: &[f64],
-        arm: &[f64],
-        mobile: &[bool],
-        walls: &[Wall],
-        skin: f64,
-        near: impl Fn(usize, usize, f64) -> bool + Sync,
-    ) {
-        *self = Self {
-            rebuilds: self.rebuilds,
-            ..Self::default()
-        };
-        self.update(positions, angles, reach, arm, mobile, walls, skin, near);
-    }
-
     /// Brings the list up to date by searching around the grains that moved, not the whole
     /// deposit: a grain is searched again when one of its vertices may have moved more than
     /// half the skin since its own last search (and when it is new); pairs of two grains that
@@ -77,6 +52,13 @@ impl VerletList {
     /// (under half the skin, or j would be searched too). Until the next search of either,
     /// i moves less than half the skin, and j less than half the skin from its reference,
     /// so less than half the skin + m_j from where it is now: a pair left out cannot touch.
+    ///
+    /// On an empty list (`default`, or after a new wall) every grain is new: a full build.
+    /// `reach[i]` is grain i's bounding radius; `mobile[i]` is false for fixed grains (two
+    /// fixed grains never interact). `near(i, j, margin)` is the exact test of a pair whose
+    /// bounding disks come within the skin (plus `margin` for j): it keeps only pairs whose
+    /// outlines do, so the narrow phase does not visit, every step, neighbours that cannot
+    /// touch before the next rebuild.
     #[allow(clippy::too_many_arguments)]
     pub fn update(
         &mut self,
@@ -215,11 +197,11 @@ mod tests {
         let angles = vec![0.0; n];
         let arm = vec![0.0; n];
         let mut list = VerletList::default();
-        list.rebuild(
+        list.update(
             &positions,
             &angles,
             &reach,
-            &vec![0.0; n],
+            &arm,
             &mobile,
             &[],
             skin,
@@ -284,17 +266,20 @@ mod tests {
             .collect();
         let start = positions.clone();
         let mobile = vec![true; n];
+        let update = |list: &mut VerletList, positions: &[Vec2]| {
+            list.update(
+                positions,
+                &angles,
+                &reach,
+                &arm,
+                &mobile,
+                &[],
+                skin,
+                |_, _, _| true,
+            )
+        };
         let mut list = VerletList::default();
-        list.rebuild(
-            &positions,
-            &angles,
-            &reach,
-            &arm,
-            &mobile,
-            &[],
-            skin,
-            |_, _, _| true,
-        );
+        update(&mut list, &positions);
         let mut partial = 0;
         for t in 1..=300 {
             for i in 0..n {
@@ -304,16 +289,7 @@ mod tests {
             }
             if list.is_stale(&positions, &angles, &arm, skin) {
                 let before = list.reference.clone();
-                list.update(
-                    &positions,
-                    &angles,
-                    &reach,
-                    &arm,
-                    &mobile,
-                    &[],
-                    skin,
-                    |_, _, _| true,
-                );
+                update(&mut list, &positions);
                 partial += usize::from(list.reference.iter().zip(&before).any(|(a, b)| a == b));
             }
             for i in 0..n {

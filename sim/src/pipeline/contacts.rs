@@ -182,15 +182,16 @@ impl PairContact {
     }
 }
 
-/// Moves the histories of pairs that survive a Verlet rebuild to their new slots; both pair
-/// lists are sorted. The lists usually agree up to some pair: the grains that moved are the
-/// top of a deposit, its latest grains, whose pairs sort last. The contacts before it stay
-/// where they are and only the rest are moved.
+/// Moves the histories of pairs that survive a Verlet rebuild to their new slots, and
+/// returns them with the switching energy of the pairs dropped; both pair lists are sorted.
+/// The lists usually agree up to some pair: the grains that moved are the top of a deposit,
+/// its latest grains, whose pairs sort last. The contacts before it stay where they are and
+/// only the rest are moved.
 pub(crate) fn carry_over<K: Ord + Copy>(
     old_keys: &[K],
     mut old: Vec<PairContact>,
     new_keys: &[K],
-) -> Vec<PairContact> {
+) -> (Vec<PairContact>, f64) {
     let same = old_keys
         .iter()
         .zip(new_keys)
@@ -200,37 +201,24 @@ pub(crate) fn carry_over<K: Ord + Copy>(
     let (old_keys, new_keys) = (&old_keys[same..], &new_keys[same..]);
     let mut carried = old;
     carried.reserve(new_keys.len());
+    let mut dropped = 0.0;
     let mut k = 0;
     for key in new_keys {
         while k < old_keys.len() && old_keys[k] < *key {
+            dropped += rest[k].switched;
             k += 1;
         }
         if k < old_keys.len() && old_keys[k] == *key {
             carried.push(std::mem::take(&mut rest[k]));
+            k += 1;
         } else {
             carried.push(PairContact::default());
         }
     }
-    carried
-}
-
-/// Switching energy of the pairs a rebuild drops; both pair lists are sorted.
-pub(crate) fn dropped_switching<K: Ord + Copy>(
-    old_keys: &[K],
-    old: &[PairContact],
-    new_keys: &[K],
-) -> f64 {
-    let mut k = 0;
-    let mut dropped = 0.0;
-    for (key, contact) in old_keys.iter().zip(old) {
-        while k < new_keys.len() && new_keys[k] < *key {
-            k += 1;
-        }
-        if k == new_keys.len() || new_keys[k] != *key {
-            dropped += contact.switched;
-        }
+    for contact in &rest[k..] {
+        dropped += contact.switched;
     }
-    dropped
+    (carried, dropped)
 }
 
 /// For each grain, the contacts it takes part in, in a fixed order, so forces are summed the

@@ -1,7 +1,7 @@
 use rayon::prelude::*;
 use smallvec::SmallVec;
 
-use super::contacts::{Incidence, Kinematics, PairContact, carry_over, dropped_switching};
+use super::contacts::{Incidence, Kinematics, PairContact, carry_over};
 use super::world::World;
 use crate::broad_phase::moved_past_half_skin;
 use crate::error::SimError;
@@ -230,29 +230,22 @@ impl World {
         self.dormancy.woken = false;
         let n = self.grains.len();
         // Unchanged lists (most updates while grains fall alone) keep their contacts in place.
-        if old.pairs != self.verlet.pairs || self.pair_incidence.grains() != n {
-            self.switching_dropped +=
-                dropped_switching(&old.pairs, &self.pair_contacts, &self.verlet.pairs);
-            self.pair_contacts = carry_over(
-                &old.pairs,
-                std::mem::take(&mut self.pair_contacts),
-                &self.verlet.pairs,
-            );
-            self.pair_incidence = Incidence::build(n, &self.verlet.pairs, true);
-        }
-        if old.wall_pairs != self.verlet.wall_pairs || self.wall_incidence.grains() != n {
-            self.switching_dropped += dropped_switching(
-                &old.wall_pairs,
-                &self.wall_contacts,
-                &self.verlet.wall_pairs,
-            );
-            self.wall_contacts = carry_over(
-                &old.wall_pairs,
-                std::mem::take(&mut self.wall_contacts),
-                &self.verlet.wall_pairs,
-            );
-            self.wall_incidence = Incidence::build(n, &self.verlet.wall_pairs, false);
-        }
+        self.switching_dropped += refresh_contacts(
+            &old.pairs,
+            &self.verlet.pairs,
+            &mut self.pair_contacts,
+            &mut self.pair_incidence,
+            n,
+            true,
+        );
+        self.switching_dropped += refresh_contacts(
+            &old.wall_pairs,
+            &self.verlet.wall_pairs,
+            &mut self.wall_contacts,
+            &mut self.wall_incidence,
+            n,
+            false,
+        );
         self.find_watched();
         // Splitting a pass over threads costs microseconds: not worth it for a few grains.
         let awake = self.dormancy.awake.iter().filter(|a| **a).count();
@@ -449,6 +442,26 @@ impl World {
         self.pair_push = pair_push;
         self.wall_push = wall_push;
     }
+}
+
+/// Carries the contacts of one pair list over to its new version and rebuilds its incidence,
+/// unless neither the list nor the grain count changed; returns the switching energy of the
+/// pairs dropped.
+fn refresh_contacts(
+    old: &[[u32; 2]],
+    new: &[[u32; 2]],
+    contacts: &mut Vec<PairContact>,
+    incidence: &mut Incidence,
+    grains: usize,
+    second_is_grain: bool,
+) -> f64 {
+    if old == new && incidence.grains() == grains {
+        return 0.0;
+    }
+    let (carried, dropped) = carry_over(old, std::mem::take(contacts), new);
+    *contacts = carried;
+    *incidence = Incidence::build(grains, new, second_is_grain);
+    dropped
 }
 
 /// Below this many awake grains a step runs on one thread.

@@ -8,7 +8,7 @@
 //! same order, so a score does not depend on the processor, nor on anything but its inputs.
 
 #[cfg(target_arch = "x86_64")]
-use std::arch::x86_64::{__m256, __m256d};
+use std::arch::x86_64::{__m256, __m256d, __m256i};
 
 use super::plane::Bordered;
 #[cfg(test)]
@@ -222,21 +222,8 @@ impl Taps {
             let tx = _mm256_sub_ps(fx, _mm256_cvtepi32_ps(c));
             let ty = _mm256_sub_ps(fy, _mm256_cvtepi32_ps(r));
             let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
-            // Each tap's two horizontal neighbours are adjacent: one 64-bit gather element
-            // reads both, halving the gathered elements.
-            let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
-            // SAFETY (gathers): `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
-            let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
-                (
-                    _mm256_i32gather_pd::<4>(data as *const f64, first),
-                    _mm256_i32gather_pd::<4>(data as *const f64, last),
-                    _mm256_i32gather_pd::<4>(below as *const f64, first),
-                    _mm256_i32gather_pd::<4>(below as *const f64, last),
-                )
-            };
-            let (a, b) = split_pairs(top_lo, top_hi);
-            let (d, e) = split_pairs(bottom_lo, bottom_hi);
-            let value = blend_x8(a, b, d, e, tx, ty);
+            // SAFETY: `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
+            let value = unsafe { gather_bilinear(data, below, i, tx, ty) };
             // max(value, floor) as in f32::max for the non-NaN values a plane holds.
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
         }
@@ -311,19 +298,8 @@ impl Taps {
             let c = clamp(_mm256_cvttps_epi32(cf), last_c);
             let r = clamp(_mm256_cvttps_epi32(rf), last_r);
             let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
-            let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
-            // SAFETY (gathers): every index is clamped into the bordered plane.
-            let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
-                (
-                    _mm256_i32gather_pd::<4>(data as *const f64, first),
-                    _mm256_i32gather_pd::<4>(data as *const f64, last),
-                    _mm256_i32gather_pd::<4>(below as *const f64, first),
-                    _mm256_i32gather_pd::<4>(below as *const f64, last),
-                )
-            };
-            let (a, b) = split_pairs(top_lo, top_hi);
-            let (d, e) = split_pairs(bottom_lo, bottom_hi);
-            let value = blend_x8(a, b, d, e, tx, ty);
+            // SAFETY: every index is clamped into the bordered plane.
+            let value = unsafe { gather_bilinear(data, below, i, tx, ty) };
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
             acc_w = _mm256_add_ps(acc_w, w);
         }
@@ -399,6 +375,39 @@ fn blend_x8(a: __m256, b: __m256, d: __m256, e: __m256, tx: __m256, ty: __m256) 
     let top = _mm256_add_ps(a, _mm256_mul_ps(tx, _mm256_sub_ps(b, a)));
     let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, _mm256_sub_ps(e, d)));
     _mm256_add_ps(top, _mm256_mul_ps(ty, _mm256_sub_ps(bottom, top)))
+}
+
+/// Bilinear values of eight taps whose top-left pixels are at indices `i` of the rows from
+/// `data` and `below` (one row further), at fractions `tx`, `ty`. Each tap's two horizontal
+/// neighbours are adjacent: one 64-bit gather element reads both, halving the gathered
+/// elements.
+///
+/// # Safety
+/// Every pixel `i` and `i + 1` of both rows must lie inside the allocation.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn gather_bilinear(
+    data: *const f32,
+    below: *const f32,
+    i: __m256i,
+    tx: __m256,
+    ty: __m256,
+) -> __m256 {
+    use std::arch::x86_64::*;
+    let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
+    // SAFETY: the caller keeps every index's pair of pixels in both rows.
+    let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
+        (
+            _mm256_i32gather_pd::<4>(data as *const f64, first),
+            _mm256_i32gather_pd::<4>(data as *const f64, last),
+            _mm256_i32gather_pd::<4>(below as *const f64, first),
+            _mm256_i32gather_pd::<4>(below as *const f64, last),
+        )
+    };
+    let (a, b) = split_pairs(top_lo, top_hi);
+    let (d, e) = split_pairs(bottom_lo, bottom_hi);
+    blend_x8(a, b, d, e, tx, ty)
 }
 
 /// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
