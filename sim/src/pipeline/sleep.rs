@@ -238,10 +238,13 @@ impl World {
                 continue;
             }
             let weight = g.mass[i] * gravity;
-            let limit = s.wake_fraction * weight;
             let (force, torque) = d.asleep_load[i];
-            if (g.force[i] - force).norm() > limit
-                || (g.torque[i] - torque).abs() > limit * self.arm[i]
+            if above((g.force[i] - force).norm(), s.wake_fraction, weight)
+                || above(
+                    (g.torque[i] - torque).abs(),
+                    s.wake_fraction,
+                    weight * self.arm[i],
+                )
             {
                 d.awake[i] = true;
                 d.watched[i] = false;
@@ -265,11 +268,11 @@ impl World {
             if !d.awake[i] {
                 continue;
             }
-            let limit = s.force_fraction * g.mass[i] * gravity;
+            let weight = g.mass[i] * gravity;
             let (x, theta) = (g.position[i], g.angle[i]);
             let quiet = g.velocity[i].norm() + arm * g.angular_velocity[i].abs() < s.speed
-                && g.force[i].norm() < limit
-                && g.torque[i].abs() < limit * arm
+                && !above(g.force[i].norm(), s.force_fraction, weight)
+                && !above(g.torque[i].abs(), s.force_fraction, weight * arm)
                 && (x - anchor.0).norm() + arm * (theta - anchor.1).abs() < s.drift;
             if quiet {
                 *quiet_steps = quiet_steps.saturating_add(1);
@@ -279,4 +282,10 @@ impl World {
             }
         }
     }
+}
+
+/// Whether `value` exceeds `fraction` of `scale`. An infinite fraction is never exceeded, even
+/// when the scale is zero (a weight without gravity), where the product would be NaN.
+fn above(value: f64, fraction: f64, scale: f64) -> bool {
+    fraction != f64::INFINITY && value > fraction * scale
 }

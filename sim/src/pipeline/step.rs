@@ -230,22 +230,29 @@ impl World {
         self.dormancy.woken = false;
         let n = self.grains.len();
         // Unchanged lists (most updates while grains fall alone) keep their contacts in place.
-        self.switching_dropped += refresh_contacts(
-            &old.pairs,
-            &self.verlet.pairs,
-            &mut self.pair_contacts,
-            &mut self.pair_incidence,
-            n,
-            true,
-        );
-        self.switching_dropped += refresh_contacts(
-            &old.wall_pairs,
-            &self.verlet.wall_pairs,
-            &mut self.wall_contacts,
-            &mut self.wall_incidence,
-            n,
-            false,
-        );
+        for (old, new, contacts, incidence, second_is_grain) in [
+            (
+                &old.pairs,
+                &self.verlet.pairs,
+                &mut self.pair_contacts,
+                &mut self.pair_incidence,
+                true,
+            ),
+            (
+                &old.wall_pairs,
+                &self.verlet.wall_pairs,
+                &mut self.wall_contacts,
+                &mut self.wall_incidence,
+                false,
+            ),
+        ] {
+            if let Some(dropped) =
+                refresh_contacts(old, new, contacts, incidence, n, second_is_grain)
+            {
+                self.switching_dropped += dropped;
+                self.pushes_stale = true;
+            }
+        }
         self.find_watched();
         // Splitting a pass over threads costs microseconds: not worth it for a few grains.
         let awake = self.dormancy.awake.iter().filter(|a| **a).count();
@@ -328,6 +335,8 @@ impl World {
         {
             let this = &*self;
             let awake = &this.dormancy.awake;
+            // A contact at rest keeps its push: copied again only when the lists moved it.
+            let stale = this.pushes_stale;
             // Pairs and walls side by side: one wait for both instead of one each.
             let pairs = || {
                 pair_contacts
@@ -339,7 +348,9 @@ impl World {
                         let (i, j) = (i as usize, j as usize);
                         if !(awake[i] || awake[j]) {
                             // Both at rest: the contact keeps the force it had.
-                            *push = Push::of(contact);
+                            if stale {
+                                *push = Push::of(contact);
+                            }
                             return;
                         }
                         let (first, second) = (this.placed(i), this.placed(j));
@@ -368,7 +379,9 @@ impl World {
                     .for_each(|((contact, push), &[i, k])| {
                         let (i, k) = (i as usize, k as usize);
                         if !awake[i] {
-                            *push = Push::of(contact);
+                            if stale {
+                                *push = Push::of(contact);
+                            }
                             return;
                         }
                         let (core, wall) = (this.placed(i), &this.walls[k]);
@@ -441,12 +454,13 @@ impl World {
         self.wall_contacts = wall_contacts;
         self.pair_push = pair_push;
         self.wall_push = wall_push;
+        self.pushes_stale = false;
     }
 }
 
 /// Carries the contacts of one pair list over to its new version and rebuilds its incidence,
-/// unless neither the list nor the grain count changed; returns the switching energy of the
-/// pairs dropped.
+/// unless neither the list nor the grain count changed (`None`); returns the switching energy
+/// of the pairs dropped.
 fn refresh_contacts(
     old: &[[u32; 2]],
     new: &[[u32; 2]],
@@ -454,14 +468,14 @@ fn refresh_contacts(
     incidence: &mut Incidence,
     grains: usize,
     second_is_grain: bool,
-) -> f64 {
+) -> Option<f64> {
     if old == new && incidence.grains() == grains {
-        return 0.0;
+        return None;
     }
     let (carried, dropped) = carry_over(old, std::mem::take(contacts), new);
     *contacts = carried;
     *incidence = Incidence::build(grains, new, second_is_grain);
-    dropped
+    Some(dropped)
 }
 
 /// Below this many awake grains a step runs on one thread.

@@ -95,6 +95,9 @@ pub struct World {
     pub(crate) wall_contacts: Vec<PairContact>,
     pub(crate) pair_push: Vec<super::step::Push>,
     pub(crate) wall_push: Vec<super::step::Push>,
+    /// The contact lists were re-indexed since the pushes were last written: the pushes of
+    /// contacts at rest must be copied again.
+    pub(crate) pushes_stale: bool,
     pub(crate) pair_incidence: Incidence,
     pub(crate) wall_incidence: Incidence,
     pub(crate) forces_ready: bool,
@@ -163,6 +166,7 @@ impl World {
             wall_contacts: Vec::new(),
             pair_push: Vec::new(),
             wall_push: Vec::new(),
+            pushes_stale: true,
             pair_incidence: Incidence::default(),
             wall_incidence: Incidence::default(),
             forces_ready: false,

@@ -58,7 +58,7 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
 ) {
     let cutoff = first.radius + second.radius;
     for k in 0..first.len() {
-        let preferred = || entry(first, k, &previous);
+        let preferred = || entry(first, k, second, &previous);
         vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
                 Foot::Edge(e) => Features::VertexEdge {
@@ -83,7 +83,7 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
         });
     }
     for m in 0..second.len() {
-        let preferred = || entry(second, m, || previous().map(Features::mirrored));
+        let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
         vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
             let Foot::Edge(e) = touch.foot else { return };
             let p = second.vertices[m];
@@ -109,13 +109,18 @@ fn next(core: &PlacedCore, k: usize) -> usize {
     if k + 1 == core.len() { 0 } else { k + 1 }
 }
 
-/// How vertex k of `owner`, found inside the other core, came in, read from the features that
-/// touched a step ago (`previous`, with `owner` as the first core): its own sub-contact, or
-/// else the other grain's corner against an edge of `owner` ending at k (two corners that
-/// met, counted once as that corner's).
+/// How vertex k of `owner`, found inside the `other` core, came in, read from the features
+/// that touched a step ago (`previous`, with `owner` as the first core): its own sub-contact,
+/// or else the other grain's corner against an edge of `owner` ending at k (two corners that
+/// met, counted once as that corner's), if that corner is near k. An edge has two ends: two
+/// rods side by side touch with a corner of one near one end of the other's face, and the far
+/// end of that face may be the vertex that comes in, through the face, nowhere near that
+/// corner; pushed out past the corner's other edge, the far end of the rod, it would be
+/// given an overlap of nearly a rod length.
 fn entry<J: Iterator<Item = Features>>(
     owner: &PlacedCore,
     k: usize,
+    other: &PlacedCore,
     previous: impl Fn() -> J,
 ) -> Option<Entry> {
     let own = previous().find_map(|f| match f {
@@ -127,15 +132,28 @@ fn entry<J: Iterator<Item = Features>>(
         }
         _ => None,
     });
+    // Corners that met a step ago are within the cutoff of each other, and the sharing zone
+    // along the face; a step moves them by a fraction of the cutoff more.
+    let near = CORNERS_MET * (owner.radius + other.radius);
+    let p = owner.vertices[k];
     own.or_else(|| {
         previous().find_map(|f| match f {
-            Features::EdgeVertex { edge, vertex } if ends(owner, edge, k) => {
+            Features::EdgeVertex { edge, vertex }
+                if ends(owner, edge, k)
+                    && other
+                        .vertices
+                        .get(vertex as usize)
+                        .is_some_and(|q| (p - q).norm() < near) =>
+            {
                 Some(Entry::Corner(vertex as usize))
             }
             _ => None,
         })
     })
 }
+
+/// Two corners closer than this many times r_i + r_j met (see [`entry`]).
+const CORNERS_MET: f64 = 4.0;
 
 /// Whether vertex `k` of `core` is an end of its edge `edge`.
 fn ends(core: &PlacedCore, edge: u8, k: usize) -> bool {
@@ -773,5 +791,40 @@ mod tests {
         let mut fresh = SmallVec::new();
         core_core_sub_contacts(&top.core(), &bottom.core(), std::iter::empty, &mut fresh);
         assert!(of_tip(&fresh).normal.y < -0.99);
+    }
+
+    #[test]
+    fn the_far_end_of_a_face_entering_side_by_side_is_pushed_out_through_the_face() {
+        // Two rods side by side, the upper one shifted 0.3 along the axis, cores 0.01 deep
+        // into each other. A step ago the upper rod's left corner touched the lower one's top
+        // face, which ends at the lower rod's right corner: that corner, now inside the upper
+        // core through its bottom face, 3.5 from the remembered corner, must be pushed out
+        // through that face, not past the upper rod's far end (an overlap of 3.4).
+        let rod = Spheropolygon::rounded_rectangle(4.0, 1.0, 0.1).unwrap();
+        let lower = Placed::new(&rod, Vec2::zeros(), 0.0);
+        let upper = Placed::new(&rod, Vec2::new(0.3, 0.8 - 0.01), 0.0);
+        // Vertices counter-clockwise from the lower left: the lower rod's top face is edge 2,
+        // from its corner 2 (right) to 3 (left); the upper rod's lower left corner is 0.
+        assert!(lower.vertices[2].x > 0.0 && lower.vertices[2].y > 0.0);
+        assert!(upper.vertices[0].x < 0.0 && upper.vertices[0].y < upper.centre.y);
+        let remembered = [Features::EdgeVertex { edge: 2, vertex: 0 }];
+        let mut out = SmallVec::new();
+        core_core_sub_contacts(
+            &lower.core(),
+            &upper.core(),
+            || remembered.iter().copied(),
+            &mut out,
+        );
+        let corner = out
+            .iter()
+            .find(|s| matches!(s.features, Features::VertexEdge { vertex: 2, .. }))
+            .unwrap_or_else(|| panic!("{out:?}"));
+        assert!(corner.normal.y < -0.99, "{corner:?}");
+        assert!((corner.overlap - (0.2 + 0.01)).abs() < 1e-12, "{corner:?}");
+        // Every sub-contact pushes the lower rod down, by a shallow overlap.
+        assert!(
+            out.iter().all(|s| s.normal.y < -0.99 && s.overlap < 0.25),
+            "{out:?}"
+        );
     }
 }

@@ -144,3 +144,62 @@ fn a_trembling_column_sleeps_by_drift_and_not_by_speed() {
     };
     assert_eq!(trembling(too_strict), 0);
 }
+
+#[test]
+fn a_sleeper_struck_hard_wakes_and_takes_the_momentum() {
+    // A square asleep on the floor (by drift, as the fill scenes sleep); another slides into
+    // it face on at 1 m/s. The first step of contact changes the sleeper's net force by
+    // hundreds of its weights: it must wake and leave with what a head-on collision of equal
+    // masses gives it, (1 + e) / 2 of the speed, the pair keeping the momentum brought in
+    // (less the floor's friction, 0.4 g on each while it slides: 0.02 m/s in all over the
+    // striker's 3 ms and the struck one's 2 ms, and what the sleeper was denied before it
+    // woke, under 20 weights for a step: 0.012 m/s; measured: 0.980 kept). Never woken, it
+    // would act as a wall: the other bounces back and the momentum is lost.
+    let strike = |wake_fraction: f64| {
+        let mut w = world(ContactLaw::default(), Vec2::new(0.0, -10.0), None);
+        add_floor(&mut w);
+        let square = add_square(&mut w);
+        let y = SIDE / 2.0;
+        w.add_grain(square, at(0.0, y, 0.0)).unwrap();
+        w.set_sleep(Some(SleepSettings {
+            speed: f64::INFINITY,
+            force_fraction: f64::INFINITY,
+            drift: 0.05e-3,
+            quiet_time: 0.02,
+            wake_fraction,
+            ..SleepSettings::default()
+        }))
+        .unwrap();
+        settle(&mut w, 0.05);
+        assert_eq!(w.sleeping(), 1);
+        let gap = 1e-3;
+        let striker = w
+            .add_grain(
+                square,
+                moving(-(SIDE + gap), w.grain(0).position.y, 0.0, 1.0, 0.0),
+            )
+            .unwrap()
+            .0;
+        settle(&mut w, 2e-3 + gap / 1.0);
+        assert!(
+            w.contacts().all(|c| matches!(c.second, sim::Body::Wall(_))),
+            "the squares still touch"
+        );
+        (w.grain(0).velocity.x, w.grain(striker).velocity.x)
+    };
+    let (struck, striker) = strike(20.0);
+    // Face on face the paper's grains bounce with e = 0.8-0.95 (collisions.rs): the struck
+    // square leaves at (1 + e) / 2 = 0.9-0.975 m/s, less the friction above.
+    assert!(
+        struck > 0.89 && struck < 0.975,
+        "struck square leaves at {struck} m/s, striker at {striker} m/s"
+    );
+    let kept = struck + striker;
+    assert!(
+        kept > 1.0 - 0.02 - 0.012 && kept < 1.0,
+        "momentum per unit mass {kept} m/s after, 1 m/s before"
+    );
+    let (struck, striker) = strike(f64::INFINITY);
+    assert_eq!(struck, 0.0, "never woken, the sleeper acts as a wall");
+    assert!(striker < -0.5, "the striker bounces back: {striker} m/s");
+}
