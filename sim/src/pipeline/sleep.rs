@@ -53,6 +53,44 @@ impl Default for SleepSettings {
 }
 
 impl SleepSettings {
+    /// Whether a sleeper's net force (and torque), gathered now, has moved far enough from
+    /// what it held when it fell asleep to wake it.
+    pub(crate) fn disturbed(
+        &self,
+        force: Vec2,
+        torque: f64,
+        (asleep_force, asleep_torque): (Vec2, f64),
+        weight: f64,
+        arm: f64,
+    ) -> bool {
+        above((force - asleep_force).norm(), self.wake_fraction, weight)
+            || above(
+                (torque - asleep_torque).abs(),
+                self.wake_fraction,
+                weight * arm,
+            )
+    }
+
+    /// Whether an awake grain meets every sleep criterion this step (`anchor`: where its quiet
+    /// stretch began).
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn quiet(
+        &self,
+        velocity: Vec2,
+        angular_velocity: f64,
+        force: Vec2,
+        torque: f64,
+        weight: f64,
+        arm: f64,
+        (x, theta): (Vec2, f64),
+        anchor: (Vec2, f64),
+    ) -> bool {
+        velocity.norm() + arm * angular_velocity.abs() < self.speed
+            && !above(force.norm(), self.force_fraction, weight)
+            && !above(torque.abs(), self.force_fraction, weight * arm)
+            && (x - anchor.0).norm() + arm * (theta - anchor.1).abs() < self.drift
+    }
+
     pub fn validate(&self) -> Result<(), SimError> {
         // The criteria may be off (infinite).
         let criteria: [(&'static str, f64, &'static str); 4] = [
@@ -222,63 +260,6 @@ impl World {
                 if self.mobile[sleeper] {
                     d.watched[sleeper] = true;
                 }
-            }
-        }
-    }
-
-    /// Wakes the watched sleepers whose net force (just gathered) has changed.
-    pub(crate) fn wake_disturbed(&mut self) {
-        let Some(s) = self.dormancy.settings else {
-            return;
-        };
-        let gravity = self.settings.gravity.norm();
-        let (g, d) = (&self.grains, &mut self.dormancy);
-        for i in 0..self.mobile.len() {
-            if !d.watched[i] {
-                continue;
-            }
-            let weight = g.mass[i] * gravity;
-            let (force, torque) = d.asleep_load[i];
-            if above((g.force[i] - force).norm(), s.wake_fraction, weight)
-                || above(
-                    (g.torque[i] - torque).abs(),
-                    s.wake_fraction,
-                    weight * self.arm[i],
-                )
-            {
-                d.awake[i] = true;
-                d.watched[i] = false;
-                d.quiet_steps[i] = 0;
-                d.anchor[i] = (g.position[i], g.angle[i]);
-                d.woken = true;
-            }
-        }
-    }
-
-    /// After the velocities are final for the step: counts the steps each awake grain has
-    /// been quiet; a grain that is not starts its stretch again from where it stands.
-    pub(crate) fn count_quiet(&mut self) {
-        let Some(s) = self.dormancy.settings else {
-            return;
-        };
-        let gravity = self.settings.gravity.norm();
-        let (g, d) = (&self.grains, &mut self.dormancy);
-        let grains = d.quiet_steps.iter_mut().zip(&mut d.anchor).zip(&self.arm);
-        for (i, ((quiet_steps, anchor), &arm)) in grains.enumerate() {
-            if !d.awake[i] {
-                continue;
-            }
-            let weight = g.mass[i] * gravity;
-            let (x, theta) = (g.position[i], g.angle[i]);
-            let quiet = g.velocity[i].norm() + arm * g.angular_velocity[i].abs() < s.speed
-                && !above(g.force[i].norm(), s.force_fraction, weight)
-                && !above(g.torque[i].abs(), s.force_fraction, weight * arm)
-                && (x - anchor.0).norm() + arm * (theta - anchor.1).abs() < s.drift;
-            if quiet {
-                *quiet_steps = quiet_steps.saturating_add(1);
-            } else {
-                *quiet_steps = 0;
-                *anchor = (x, theta);
             }
         }
     }

@@ -2,6 +2,7 @@ use rayon::prelude::*;
 use smallvec::SmallVec;
 
 use super::contacts::{Incidence, Kinematics, PairContact, carry_over};
+use super::sleep::Dormancy;
 use super::world::World;
 use crate::broad_phase::moved_past_half_skin;
 use crate::error::SimError;
@@ -17,6 +18,9 @@ impl World {
     /// 1. half kick and drift, 2. broad phase, 3. narrow phase and contact forces,
     /// 4. second half kick.
     ///
+    /// With sleep on, the sleepers a neighbour disturbed wake before the second half kick, and
+    /// the awake grains then count how long they have been quiet.
+    ///
     /// Every stage is a parallel map over grains or pairs whose results do not depend on how
     /// the work is split, and forces are gathered per grain in a fixed order: the outcome is
     /// bit-identical whatever the number of threads.
@@ -31,15 +35,8 @@ impl World {
         if stale || sleep_due || self.dormancy.woken {
             self.rebuild_neighbours()?;
         }
-        // With sleep off no grain wakes between the gather and the kick: the gather kicks
-        // each grain as soon as its force is summed, one pass over the grains fewer.
-        let kick_in_gather = self.dormancy.settings.is_none();
-        self.compute_forces(kick_in_gather.then_some(dt / 2.0));
-        if !kick_in_gather {
-            self.wake_disturbed();
-            self.kick(dt / 2.0);
-            self.count_quiet();
-        }
+        // The gather ends the step grain by grain: wakes, second half kick, quiet count.
+        self.compute_forces(Some(dt / 2.0));
         self.time += dt;
         self.steps += 1;
         Ok(())
@@ -93,26 +90,6 @@ impl World {
             self.serial_pool = Some(std::sync::Arc::new(pool));
         }
         Ok(self.serial_pool.clone().expect("made above"))
-    }
-
-    /// The second half kick: v += a dt/2, after the drag's decay (sleeping grains stay at
-    /// rest).
-    fn kick(&mut self, kick: f64) {
-        let decay = self.drag_decay(kick);
-        let gravity = self.settings.gravity;
-        let (g, awake) = (&mut self.grains, &self.dormancy.awake);
-        (&mut g.velocity, &mut g.angular_velocity)
-            .into_par_iter()
-            .zip((&g.force, &g.torque, &g.inverse_mass, &g.inverse_inertia))
-            .zip((&g.mass, awake))
-            .with_min_len(self.min_len)
-            .for_each(|(((v, w), (f, t, im, ii)), (&m, &awake))| {
-                if awake {
-                    let d = drag_factor(decay, *f, *t, gravity * m);
-                    *v = *v * d + f * (im * kick);
-                    *w = *w * d + t * ii * kick;
-                }
-            });
     }
 
     /// The drag's velocity factor over `time` (exactly 1 without drag).
@@ -321,8 +298,9 @@ impl World {
     }
 
     /// Narrow phase and contact law for every pair and wall contact, then the sum per grain;
-    /// with `kick` (s), also the half kick v += a kick of each awake grain, once its force is
-    /// known.
+    /// with `kick` (s), also the end of the step for each grain once its force is known: a
+    /// watched sleeper wakes if disturbed, an awake grain takes the half kick v += a kick and
+    /// counts its quiet steps.
     fn compute_forces(&mut self, kick: Option<f64>) {
         let mut pair_contacts = std::mem::take(&mut self.pair_contacts);
         let mut wall_contacts = std::mem::take(&mut self.wall_contacts);
@@ -398,9 +376,11 @@ impl World {
         }
         let gravity = self.settings.gravity;
         let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
-        let (awake, watched) = (&self.dormancy.awake, &self.dormancy.watched);
+        let arm = &self.arm;
         let decay = self.drag_decay(kick.unwrap_or(0.0));
         let crate::dynamics::Grains {
+            position,
+            angle,
             force,
             torque,
             mass,
@@ -410,46 +390,90 @@ impl World {
             inverse_inertia,
             ..
         } = &mut self.grains;
-        (force, torque, velocity, angular_velocity)
+        let Dormancy {
+            settings: sleep,
+            awake,
+            watched,
+            quiet_steps,
+            anchor,
+            asleep_load,
+            ..
+        } = &mut self.dormancy;
+        let sleep = *sleep;
+        let woke = (
+            force,
+            torque,
+            velocity,
+            angular_velocity,
+            awake,
+            watched,
+            quiet_steps,
+            anchor,
+        )
             .into_par_iter()
             .with_min_len(self.min_len)
             .enumerate()
-            .for_each(|(i, (force, torque, v, w))| {
-                // A sleeping grain's forces change only through awake neighbours.
-                if mobile[i] && !(awake[i] || watched[i]) {
-                    return;
-                }
-                let mut f = Vec2::zeros();
-                let mut t = 0.0;
-                if mobile[i] {
-                    f = gravity * mass[i];
-                    for &(k, first) in pairs.of(i) {
-                        let c = &pair_push[k as usize];
-                        if first {
+            .map(
+                |(i, (force, torque, v, w, awake, watched, quiet_steps, anchor))| {
+                    // A sleeping grain's forces change only through awake neighbours.
+                    if mobile[i] && !(*awake || *watched) {
+                        return false;
+                    }
+                    let mut f = Vec2::zeros();
+                    let mut t = 0.0;
+                    if mobile[i] {
+                        f = gravity * mass[i];
+                        for &(k, first) in pairs.of(i) {
+                            let c = &pair_push[k as usize];
+                            if first {
+                                f += c.force;
+                                t += c.torque_first;
+                            } else {
+                                f -= c.force;
+                                t += c.torque_second;
+                            }
+                        }
+                        for &(k, _) in walls.of(i) {
+                            let c = &wall_push[k as usize];
                             f += c.force;
                             t += c.torque_first;
-                        } else {
-                            f -= c.force;
-                            t += c.torque_second;
                         }
                     }
-                    for &(k, _) in walls.of(i) {
-                        let c = &wall_push[k as usize];
-                        f += c.force;
-                        t += c.torque_first;
+                    *force = f;
+                    *torque = t;
+                    let Some(kick) = kick else {
+                        return false;
+                    };
+                    // The rest of the step, grain by grain, now that its force is known: a watched
+                    // sleeper disturbed wakes, the awake grains take the second half kick, and
+                    // count how long they have been quiet.
+                    let weight = mass[i] * gravity.norm();
+                    let (x, theta) = (position[i], angle[i]);
+                    let mut woke = false;
+                    if let Some(s) = &sleep {
+                        if *watched && s.disturbed(f, t, asleep_load[i], weight, arm[i]) {
+                            (*awake, *watched, *quiet_steps, *anchor) =
+                                (true, false, 0, (x, theta));
+                            woke = true;
+                        }
                     }
-                }
-                *force = f;
-                *torque = t;
-                // The same sums as `kick`, grain by grain.
-                if let Some(kick) = kick {
-                    if awake[i] {
+                    if *awake {
                         let d = drag_factor(decay, f, t, gravity * mass[i]);
                         *v = *v * d + f * (inverse_mass[i] * kick);
                         *w = *w * d + t * inverse_inertia[i] * kick;
+                        if let Some(s) = &sleep {
+                            if s.quiet(*v, *w, f, t, weight, arm[i], (x, theta), *anchor) {
+                                *quiet_steps = quiet_steps.saturating_add(1);
+                            } else {
+                                (*quiet_steps, *anchor) = (0, (x, theta));
+                            }
+                        }
                     }
-                }
-            });
+                    woke
+                },
+            )
+            .reduce(|| false, |a, b| a || b);
+        self.dormancy.woken |= woke;
         self.pair_contacts = pair_contacts;
         self.wall_contacts = wall_contacts;
         self.pair_push = pair_push;
