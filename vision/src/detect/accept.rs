@@ -8,6 +8,7 @@ use rayon::prelude::*;
 use super::DetectParams;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
+use super::nearby::Nearby;
 use super::plane::{Bordered, Plane};
 use super::ridges;
 use super::seeds::{self, BrightBlob};
@@ -120,13 +121,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     let coarse_bordered = Bordered::new(&coarse);
     let mut free_bordered = dark_bordered.clone();
     let mut coarse_free = coarse_bordered.clone();
+    // The accepted grains' centres, for the duplicate test.
+    let mut found_near = Nearby::new(reach);
     for round in 0..params.max_rounds.max(1) {
-        let taken = |s: (f64, f64), d: f64, list: &[(f64, f64)]| {
-            list.iter().any(|q| (q.0 - s.0).hypot(q.1 - s.1) < d)
-        };
-        let mut avoid: Vec<(f64, f64)> = pending.iter().map(|t| t.0).collect();
-        avoid.extend(failed.iter().copied());
-        avoid.extend(found.iter().map(|g| (g.pose.x, g.pose.y)));
+        let avoid_points = pending
+            .iter()
+            .map(|t| t.0)
+            .chain(failed.iter().copied())
+            .chain(found.iter().map(|g| (g.pose.x, g.pose.y)));
+        let mut avoid = Nearby::with_points(spacing, avoid_points);
         // Holes pin nuts exactly: fit those first, so that the residual seeds of later rounds
         // only go where a nut's hole was not seen.
         let residual = if round == 0 && !pending.is_empty() {
@@ -135,9 +138,9 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             seeds::residual_seeds(&coarse, &coarse_explained, min_depth / f, spacing / f, f)
         };
         for s in residual {
-            if !taken(s, 0.5 * spacing, &avoid) {
+            if !avoid.any_within(s, 0.5 * spacing) {
                 pending.push((s, &residual_offsets[..], residual_step, None));
-                avoid.push(s);
+                avoid.insert(s);
             }
         }
         if pending.is_empty() {
@@ -167,7 +170,8 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 .then(a.pose.y.total_cmp(&b.pose.y))
                 .then(a.pose.x.total_cmp(&b.pose.x))
         });
-        let mut this_round: Vec<(f64, f64)> = Vec::new();
+        let mut this_round = Nearby::new(reach);
+        let mut accepted_this_round = 0;
         let mut deferred = Vec::new();
         for (k, ft) in fits {
             let seed = pending[k];
@@ -178,16 +182,13 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 continue;
             }
             let centre = (ft.pose.x, ft.pose.y);
-            if found
-                .iter()
-                .any(|g| (g.pose.x - centre.0).hypot(g.pose.y - centre.1) < 0.5 * width)
-            {
+            if found_near.any_within(centre, 0.5 * width) {
                 continue;
             }
             let now = fine_model.score(ft.pose, &dark_bordered, &free_bordered);
             // Fitted without knowing a neighbour accepted this round: if that neighbour
             // takes part of this outline, fit again next round against the updated map.
-            if (taken(centre, reach, &this_round) || taken(seed.0, reach, &this_round))
+            if (this_round.any_within(centre, reach) || this_round.any_within(seed.0, reach))
                 && now.total < ft.score.total - 0.02 * ft.score.total.abs()
             {
                 deferred.push(seed);
@@ -198,18 +199,20 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 continue;
             }
             fine_model.paint(ft.pose, dark, &mut explained, &mut free, &mut free_bordered);
-            this_round.push(centre);
+            this_round.insert(centre);
+            found_near.insert(centre);
+            accepted_this_round += 1;
             found.push(Found {
                 pose: ft.pose,
                 corners: fine_model.corners(ft.pose),
                 confidence: now.agreement as f64,
             });
         }
-        if this_round.is_empty() {
+        if accepted_this_round == 0 {
             break;
         }
         // Failed seeds next to a new grain may now fit: the grain explains what misled them.
-        failed.retain(|s| !taken(*s, reach, &this_round));
+        failed.retain(|s| !this_round.any_within(*s, reach));
         pending = deferred;
         coarse_explained = explained.downsample(factor);
         coarse_free = Bordered::new(&free.downsample(factor));

@@ -1,6 +1,6 @@
 //! Pose fit of one candidate: a coarse search over angle and position on the downsampled
-//! darkness, then sub-pixel, sub-degree refinement on the full-resolution darkness by
-//! successive parabolic steps along x, y and the angle.
+//! darkness, a few parabolic steps there for its best distinct poses, then sub-pixel,
+//! sub-degree Newton refinement of each on the full-resolution darkness.
 
 use super::model::{Model, Pose, Score};
 use super::plane::Bordered;
@@ -111,8 +111,6 @@ pub fn fit(
             }
         }
     }
-    // Finalists compete after a cheap refinement on the coarse level; the winner alone is
-    // refined at full resolution.
     let coarse_eval = |p: Pose| {
         let scaled = Pose {
             x: p.x / f,
@@ -126,11 +124,11 @@ pub fn fit(
         (total, ())
     };
     let step = position_step.max(f);
-    // The coarse level barely resolves a rod's highlight: the finalists, climbed there,
-    // are compared at full resolution.
-    // Only the best needs its full score: a finalist certainly below it is given up on. On
-    // ties the later finalist wins.
-    let mut best: Option<(Pose, Score)> = None;
+    // The coarse level barely resolves a rod's highlight, so the finalists, climbed there,
+    // are each refined at full resolution and compared refined, which picks the right rod
+    // more often than comparing them before refining (lab, 10 px/mm: rod3 recall 98.2 ->
+    // 98.7 %, rod53 98.0 -> 98.2 %). On ties the later finalist wins.
+    let mut best: Option<Fitted> = None;
     for p in finalists {
         let (p, _) = climb(
             &coarse_eval,
@@ -140,37 +138,219 @@ pub fn fit(
             0.5 * COARSE_ANGLE_STEP,
             2,
         );
-        let threshold = best.map_or(f32::NEG_INFINITY, |(_, s)| s.total);
-        let Some(score) =
-            levels
-                .fine_model
-                .score_unless_below(p, levels.fine, levels.fine_free, threshold)
-        else {
-            continue;
-        };
-        if best.is_none_or(|(_, s)| score.total.total_cmp(&s.total).is_ge()) {
-            best = Some((p, score));
+        let refined = refine(levels, p, 0.5 * f);
+        if best
+            .as_ref()
+            .is_none_or(|b| refined.score.total.total_cmp(&b.score.total).is_ge())
+        {
+            best = Some(refined);
         }
     }
-    let (winner, winner_score) = best.expect("at least one pose is tried");
-    refine(levels, winner, winner_score, 0.5 * f)
+    best.expect("at least one pose is tried")
 }
 
-/// Parabolic coordinate refinement at full resolution from a starting pose and its score.
-pub fn refine(levels: &Levels, start: Pose, start_score: Score, position_step: f64) -> Fitted {
-    let eval = |p: Pose| {
-        let score = levels.fine_model.score(p, levels.fine, levels.fine_free);
-        (score.total as f64, score)
-    };
-    let (pose, score) = climb(
-        &eval,
-        start,
-        (start_score.total as f64, start_score),
-        position_step.max(0.5),
-        0.5 * COARSE_ANGLE_STEP,
-        5,
-    );
-    Fitted { pose, score }
+/// Newton refinement at full resolution from a starting pose: each pose scored gives the
+/// total and its gradient in one pass over the taps ([`Model::score_with_slopes`]); the
+/// curvature is measured once by differences of the gradient along x, y and the angle, then
+/// kept up to date from the steps taken (BFGS), each step kept inside a box that shrinks
+/// when a step does not pay.
+pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
+    let mut newton = Newton::start(levels, start, position_step);
+    newton.steps(levels, NEWTON_STEPS);
+    newton.fitted()
+}
+
+/// The state of one Newton refinement.
+struct Newton {
+    pose: Pose,
+    value: f64,
+    score: Score,
+    gradient: [f64; 3],
+    /// Curvature of the negated total (positive definite at a maximum).
+    curvature: [[f64; 3]; 3],
+    /// Largest step along each coordinate.
+    reach: [f64; 3],
+    /// Probe steps: half a pixel, and the angle that moves the grain's ends half a pixel.
+    probe: [f64; 3],
+    converged: bool,
+}
+
+fn moved(p: Pose, d: [f64; 3]) -> Pose {
+    Pose {
+        x: p.x + d[0],
+        y: p.y + d[1],
+        phi: p.phi + d[2],
+    }
+}
+
+fn eval_slopes(levels: &Levels, p: Pose) -> (f64, Score, [f64; 3]) {
+    let (score, gradient) = levels
+        .fine_model
+        .score_with_slopes(p, levels.fine, levels.fine_free);
+    (score.total as f64, score, gradient)
+}
+
+// Three coordinates: the 3 x 3 algebra reads best with indices.
+#[allow(clippy::needless_range_loop)]
+impl Newton {
+    /// Scores the start and measures the curvature there (four passes over the taps); the
+    /// best of the poses scored becomes the current one.
+    fn start(levels: &Levels, start: Pose, position_step: f64) -> Newton {
+        let (value, score, gradient) = eval_slopes(levels, start);
+        let half_length = f64::from(levels.fine_model.half_length()).max(1.0);
+        let probe = [0.5, 0.5, 0.5 / half_length];
+        let mut curvature = [[0.0f64; 3]; 3];
+        let mut best: Option<(f64, Pose, Score, [f64; 3])> = None;
+        for axis in 0..3 {
+            let mut d = [0.0; 3];
+            d[axis] = probe[axis];
+            let q = moved(start, d);
+            let (v, s, g) = eval_slopes(levels, q);
+            for row in 0..3 {
+                curvature[row][axis] = -(g[row] - gradient[row]) / probe[axis];
+            }
+            if v > value && best.is_none_or(|(bv, ..)| v > bv) {
+                best = Some((v, q, s, g));
+            }
+        }
+        for row in 0..3 {
+            for col in 0..row {
+                let m = 0.5 * (curvature[row][col] + curvature[col][row]);
+                curvature[row][col] = m;
+                curvature[col][row] = m;
+            }
+        }
+        let (value, pose, score, gradient) = best.unwrap_or((value, start, score, gradient));
+        Newton {
+            pose,
+            value,
+            score,
+            gradient,
+            curvature,
+            reach: [
+                position_step.max(0.5),
+                position_step.max(0.5),
+                0.5 * COARSE_ANGLE_STEP,
+            ],
+            probe,
+            converged: false,
+        }
+    }
+
+    /// At most `n` more steps (one pass over the taps each).
+    fn steps(&mut self, levels: &Levels, n: usize) {
+        for _ in 0..n {
+            if self.converged {
+                return;
+            }
+            let mut step = newton_step(&self.curvature, &self.gradient);
+            let scale = (0..3)
+                .map(|k| step[k].abs() / self.reach[k])
+                .fold(1.0f64, f64::max);
+            for d in &mut step {
+                *d /= scale;
+            }
+            let q = moved(self.pose, step);
+            let (v, s, g) = eval_slopes(levels, q);
+            // Secant update of the curvature from the gradient change along the step.
+            let change: [f64; 3] = std::array::from_fn(|k| self.gradient[k] - g[k]);
+            bfgs_update(&mut self.curvature, &step, &change);
+            self.converged = step[0].abs().max(step[1].abs()) < CONVERGED * self.probe[0]
+                && step[2].abs() < CONVERGED * self.probe[2];
+            if v > self.value {
+                (self.value, self.pose, self.score, self.gradient) = (v, q, s, g);
+            } else {
+                for k in 0..3 {
+                    self.reach[k] = 0.5 * step[k].abs().max(1e-3 * self.probe[k]);
+                }
+            }
+        }
+    }
+
+    fn fitted(&self) -> Fitted {
+        Fitted {
+            pose: self.pose,
+            score: self.score,
+        }
+    }
+}
+
+/// Most Newton steps after the curvature is measured.
+const NEWTON_STEPS: usize = 6;
+
+/// A refinement ends when its step moves the outline by less than this fraction of a probe
+/// step (half a pixel): 0.05 px. A tenth of a pixel is below what the photograph resolves,
+/// and a tolerance of 0.01 px took a fifth more passes for the same detections to within a
+/// grain per thousand.
+const CONVERGED: f64 = 0.1;
+
+/// The step `curvature`^-1 `gradient` (an ascent step when the curvature of the negated
+/// total is positive definite); where it is not, a step along the gradient scaled by the
+/// diagonal's magnitude.
+#[allow(clippy::needless_range_loop)]
+fn newton_step(curvature: &[[f64; 3]; 3], gradient: &[f64; 3]) -> [f64; 3] {
+    if let Some(l) = cholesky(curvature) {
+        // Solve L y = g, then L^T s = y.
+        let mut y = [0.0; 3];
+        for i in 0..3 {
+            let mut t = gradient[i];
+            for j in 0..i {
+                t -= l[i][j] * y[j];
+            }
+            y[i] = t / l[i][i];
+        }
+        let mut s = [0.0; 3];
+        for i in (0..3).rev() {
+            let mut t = y[i];
+            for j in i + 1..3 {
+                t -= l[j][i] * s[j];
+            }
+            s[i] = t / l[i][i];
+        }
+        return s;
+    }
+    std::array::from_fn(|k| gradient[k] / curvature[k][k].abs().max(1e-9))
+}
+
+/// Lower Cholesky factor of a symmetric 3 x 3 matrix, if it is positive definite.
+#[allow(clippy::needless_range_loop)]
+fn cholesky(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
+    let mut l = [[0.0f64; 3]; 3];
+    for i in 0..3 {
+        for j in 0..=i {
+            let mut t = m[i][j];
+            for k in 0..j {
+                t -= l[i][k] * l[j][k];
+            }
+            if i == j {
+                if t <= 0.0 || !t.is_finite() {
+                    return None;
+                }
+                l[i][i] = t.sqrt();
+            } else {
+                l[i][j] = t / l[j][j];
+            }
+        }
+    }
+    Some(l)
+}
+
+/// BFGS update of a positive definite curvature from a step `s` and the gradient change
+/// `y` along it (of the negated total); skipped when the pair does not keep it positive.
+fn bfgs_update(b: &mut [[f64; 3]; 3], s: &[f64; 3], y: &[f64; 3]) {
+    let dot = |a: &[f64; 3], c: &[f64; 3]| a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+    let bs: [f64; 3] = std::array::from_fn(|i| dot(&b[i], s));
+    let (ys, sbs) = (dot(y, s), dot(s, &bs));
+    let norm = |a: &[f64; 3]| dot(a, a).sqrt();
+    let keeps_positive = ys > 1e-10 * norm(y) * norm(s) && sbs > 0.0;
+    if !keeps_positive {
+        return;
+    }
+    for i in 0..3 {
+        for j in 0..3 {
+            b[i][j] += y[i] * y[j] / ys - bs[i] * bs[j] / sbs;
+        }
+    }
 }
 
 /// Successive parabolic steps along x, y and the angle, halving the steps each sweep.

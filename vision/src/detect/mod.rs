@@ -20,6 +20,7 @@
 mod accept;
 mod fit;
 mod model;
+mod nearby;
 mod normalise;
 mod plane;
 mod ridges;

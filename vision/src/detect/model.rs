@@ -11,7 +11,7 @@
 use crate::GrainShape;
 
 use super::plane::{Bordered, Plane};
-use super::taps::{LANES, Placement, Taps};
+use super::taps::{LANES, Placement, Slopes, Taps};
 
 /// Rounding radius of the grains' corners, as a fraction of the width D.
 const ROUNDING: f64 = 0.05;
@@ -310,6 +310,10 @@ impl Model {
         self.geometry.half_width
     }
 
+    pub fn half_length(&self) -> f32 {
+        self.geometry.half_length
+    }
+
     /// Half extents (columns, rows) of the axis-aligned box that holds the pose and its ring.
     pub fn extent(&self, phi: f64) -> (f32, f32) {
         let g = &self.geometry;
@@ -332,6 +336,46 @@ impl Model {
             self.highlight.sum(at, dark, self.highlight_floor).0,
             self.flank.sum(at, dark, 0.0).0,
         )
+    }
+
+    /// [`Model::score`] and the derivatives of its total along x, y and the angle, from one
+    /// pass over the taps (the refinement's gradient).
+    pub fn score_with_slopes(
+        &self,
+        pose: Pose,
+        dark: &Bordered,
+        free: &Bordered,
+    ) -> (Score, [f64; 3]) {
+        let at = placement(pose);
+        let interior = self.interior.sum_with_slopes(at, free, 0.0);
+        let hole = self.hole.sum_with_slopes(at, dark, 0.0);
+        let ring = self.ring.sum_with_slopes(at, dark, 0.0);
+        let axis = self
+            .highlight
+            .sum_with_slopes(at, dark, self.highlight_floor);
+        let flank = self.flank.sum_with_slopes(at, dark, 0.0);
+        let score = self.finish(
+            (interior.sum, interior.weight),
+            (hole.sum, hole.weight),
+            (ring.sum, ring.weight),
+            axis.sum,
+            flank.sum,
+        );
+        // The total is linear in each cue's sum, with the coefficients of `cues`.
+        let parts: [(&Slopes, f64); 5] = [
+            (&interior, 2.0),
+            (&hole, -2.0 * f64::from(HOLE_WEIGHT)),
+            (&ring, -2.0 * f64::from(RING_WEIGHT)),
+            (&axis, -f64::from(HIGHLIGHT_WEIGHT)),
+            (&flank, -f64::from(HIGHLIGHT_WEIGHT)),
+        ];
+        let mut gradient = [0.0f64; 3];
+        for (slopes, coefficient) in parts {
+            gradient[0] += coefficient * f64::from(slopes.dx);
+            gradient[1] += coefficient * f64::from(slopes.dy);
+            gradient[2] += coefficient * f64::from(slopes.dphi);
+        }
+        (score, gradient)
     }
 
     /// [`Model::score`], or `None` when the pose certainly scores below `threshold`: each

@@ -53,6 +53,21 @@ impl Placement {
     }
 }
 
+/// A weighted tap sum and its derivatives with respect to the placement: the bilinear
+/// interpolation's own slopes at each tap, so one pass over the taps gives the refinement
+/// its gradient (d/dphi through each tap's lever arm about the placement's origin).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Slopes {
+    /// Sum of weight x max(value, floor), as [`Taps::sum`] gives it.
+    pub sum: f32,
+    /// Sum of the weights of the taps inside the plane.
+    pub weight: f32,
+    /// Derivatives of `sum` along x, y (pixels) and the angle (radians).
+    pub dx: f32,
+    pub dy: f32,
+    pub dphi: f32,
+}
+
 impl Taps {
     pub fn push(&mut self, u: f32, v: f32, w: f32) {
         // Padding is only ever appended by `seal`.
@@ -99,6 +114,229 @@ impl Taps {
         let mut lanes = [0.0f32; LANES];
         self.accumulate_inside(at, plane, floor, &mut lanes, 0..self.u.len());
         (combine(lanes), self.weight)
+    }
+
+    /// [`Taps::sum`] and its derivatives with respect to the placement. Where a tap's value
+    /// is below `floor` it counts as the floor, which does not move: no slope.
+    pub fn sum_with_slopes(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        if self.len == 0 {
+            return Slopes::default();
+        }
+        if !self.inside(at, plane) {
+            return self.slopes_near_edge(at, plane, floor);
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 is present and the placement inside the plane.
+            return unsafe { self.slopes_inside_avx2(at, plane, floor) };
+        }
+        self.slopes_inside_scalar(at, plane, floor)
+    }
+
+    /// The slope sums one tap at a time, in the AVX2 path's operations and order.
+    fn slopes_inside_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        let stride = plane.stride;
+        let mut lanes = [[0.0f32; LANES]; 4];
+        for k in 0..self.u.len() {
+            let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
+            let (x, y) = at.apply(u, v);
+            let (fx, fy) = (x - 0.5, y - 0.5);
+            let (c, r) = (fx as i32, fy as i32);
+            let (tx, ty) = (fx - c as f32, fy - r as f32);
+            let i = (r as usize + 1) * stride + c as usize + 1;
+            let (a, b) = (plane.data[i], plane.data[i + 1]);
+            let (d, e) = (plane.data[i + stride], plane.data[i + stride + 1]);
+            let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
+            let lane = k % LANES;
+            lanes[0][lane] += w * value.max(floor);
+            if value > floor {
+                let (wx, wy) = (w * gx, w * gy);
+                lanes[1][lane] += wx;
+                lanes[2][lane] += wy;
+                lanes[3][lane] += wx * (y - at.y) - wy * (x - at.x);
+            }
+        }
+        Slopes {
+            sum: combine(lanes[0]),
+            weight: self.weight,
+            dx: combine(lanes[1]),
+            dy: combine(lanes[2]),
+            dphi: combine(lanes[3]),
+        }
+    }
+
+    /// # Safety
+    /// AVX2 must be present and the placement inside the plane ([`Taps::inside`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn slopes_inside_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        use std::arch::x86_64::*;
+        let width = plane.stride as i32;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let (ox, oy) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let at = PlacementX8::new(at);
+        let half = _mm256_set1_ps(0.5);
+        let floor = _mm256_set1_ps(floor);
+        let stride = _mm256_set1_epi32(width);
+        let mut acc = [_mm256_setzero_ps(); 4];
+        for k in (0..self.u.len()).step_by(LANES) {
+            // SAFETY: k is a whole lane of the padded columns (`seal`).
+            let (x, y, w) = unsafe { at.taps(self, k) };
+            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
+            let (c, r) = (_mm256_cvttps_epi32(fx), _mm256_cvttps_epi32(fy));
+            let tx = _mm256_sub_ps(fx, _mm256_cvtepi32_ps(c));
+            let ty = _mm256_sub_ps(fy, _mm256_cvtepi32_ps(r));
+            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            // SAFETY: `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
+            let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
+            acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
+            let live = _mm256_cmp_ps::<_CMP_GT_OQ>(value, floor);
+            let w = _mm256_and_ps(w, live);
+            let (wx, wy) = (_mm256_mul_ps(w, gx), _mm256_mul_ps(w, gy));
+            acc[1] = _mm256_add_ps(acc[1], wx);
+            acc[2] = _mm256_add_ps(acc[2], wy);
+            let lever = _mm256_sub_ps(
+                _mm256_mul_ps(wx, _mm256_sub_ps(y, oy)),
+                _mm256_mul_ps(wy, _mm256_sub_ps(x, ox)),
+            );
+            acc[3] = _mm256_add_ps(acc[3], lever);
+        }
+        let mut lanes = [[0.0f32; LANES]; 4];
+        for (l, a) in lanes.iter_mut().zip(acc) {
+            // SAFETY: each array holds exactly one vector.
+            unsafe { _mm256_storeu_ps(l.as_mut_ptr(), a) };
+        }
+        Slopes {
+            sum: combine(lanes[0]),
+            weight: self.weight,
+            dx: combine(lanes[1]),
+            dy: combine(lanes[2]),
+            dphi: combine(lanes[3]),
+        }
+    }
+
+    /// The slope sums of a placement near or beyond the edge: taps outside count for
+    /// nothing, neighbours beyond the edge are clamped onto it (as [`Taps::sum`] does).
+    fn slopes_near_edge(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        #[cfg(target_arch = "x86_64")]
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: AVX2 is present.
+            return unsafe { self.slopes_near_edge_avx2(at, plane, floor) };
+        }
+        self.slopes_near_edge_scalar(at, plane, floor)
+    }
+
+    /// [`Taps::slopes_near_edge`] one tap at a time, in the AVX2 path's operations and order.
+    fn slopes_near_edge_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        let mut lanes = [[0.0f32; LANES]; 5];
+        for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
+            let (x, y) = at.apply(u, v);
+            let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
+            let w = if seen { w } else { 0.0 };
+            let (fx, fy) = (x - 0.5, y - 0.5);
+            let (cf, rf) = (fx.floor(), fy.floor());
+            let (tx, ty) = (fx - cf, fy - rf);
+            let c = (cf as i32).clamp(-1, plane.width as i32 - 1);
+            let r = (rf as i32).clamp(-1, plane.height as i32 - 1);
+            let i = (r + 1) as usize * plane.stride + (c + 1) as usize;
+            let (a, b) = (plane.data[i], plane.data[i + 1]);
+            let (d, e) = (
+                plane.data[i + plane.stride],
+                plane.data[i + plane.stride + 1],
+            );
+            let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
+            let lane = k % LANES;
+            lanes[0][lane] += w * value.max(floor);
+            lanes[4][lane] += w;
+            if value > floor {
+                let (wx, wy) = (w * gx, w * gy);
+                lanes[1][lane] += wx;
+                lanes[2][lane] += wy;
+                lanes[3][lane] += wx * (y - at.y) - wy * (x - at.x);
+            }
+        }
+        Slopes {
+            sum: combine(lanes[0]),
+            weight: combine(lanes[4]),
+            dx: combine(lanes[1]),
+            dy: combine(lanes[2]),
+            dphi: combine(lanes[3]),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn slopes_near_edge_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        use std::arch::x86_64::*;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let (ox, oy) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let at = PlacementX8::new(at);
+        let half = _mm256_set1_ps(0.5);
+        let zero = _mm256_setzero_ps();
+        let (wf, hf) = (
+            _mm256_set1_ps(plane.width as f32),
+            _mm256_set1_ps(plane.height as f32),
+        );
+        let floor = _mm256_set1_ps(floor);
+        let stride = _mm256_set1_epi32(plane.stride as i32);
+        let (last_c, last_r) = (
+            _mm256_set1_epi32(plane.width as i32 - 1),
+            _mm256_set1_epi32(plane.height as i32 - 1),
+        );
+        let border = _mm256_set1_epi32(-1);
+        let mut acc = [_mm256_setzero_ps(); 5];
+        for k in (0..self.u.len()).step_by(LANES) {
+            // SAFETY: k is a whole lane of the padded columns (`seal`).
+            let (x, y, w) = unsafe { at.taps(self, k) };
+            let seen = _mm256_and_ps(
+                _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
+                    _mm256_cmp_ps::<_CMP_GE_OQ>(y, zero),
+                ),
+                _mm256_and_ps(
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(x, wf),
+                    _mm256_cmp_ps::<_CMP_LT_OQ>(y, hf),
+                ),
+            );
+            let w = _mm256_and_ps(w, seen);
+            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
+            let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
+            let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
+            let clamp =
+                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, border), last);
+            let c = clamp(_mm256_cvttps_epi32(cf), last_c);
+            let r = clamp(_mm256_cvttps_epi32(rf), last_r);
+            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            // SAFETY: every index is clamped into the bordered plane.
+            let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
+            acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
+            acc[4] = _mm256_add_ps(acc[4], w);
+            let w = _mm256_and_ps(w, _mm256_cmp_ps::<_CMP_GT_OQ>(value, floor));
+            let (wx, wy) = (_mm256_mul_ps(w, gx), _mm256_mul_ps(w, gy));
+            acc[1] = _mm256_add_ps(acc[1], wx);
+            acc[2] = _mm256_add_ps(acc[2], wy);
+            let lever = _mm256_sub_ps(
+                _mm256_mul_ps(wx, _mm256_sub_ps(y, oy)),
+                _mm256_mul_ps(wy, _mm256_sub_ps(x, ox)),
+            );
+            acc[3] = _mm256_add_ps(acc[3], lever);
+        }
+        let mut lanes = [[0.0f32; LANES]; 5];
+        for (l, a) in lanes.iter_mut().zip(acc) {
+            // SAFETY: each array holds exactly one vector.
+            unsafe { _mm256_storeu_ps(l.as_mut_ptr(), a) };
+        }
+        Slopes {
+            sum: combine(lanes[0]),
+            weight: combine(lanes[4]),
+            dx: combine(lanes[1]),
+            dy: combine(lanes[2]),
+            dphi: combine(lanes[3]),
+        }
     }
 
     /// Padded taps (a whole number of lanes).
@@ -410,6 +648,42 @@ unsafe fn gather_bilinear(
     blend_x8(a, b, d, e, tx, ty)
 }
 
+/// [`gather_bilinear`] with the blend's slopes along x and y ([`blend_slopes`]).
+///
+/// # Safety
+/// As [`gather_bilinear`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn gather_bilinear_slopes(
+    data: *const f32,
+    below: *const f32,
+    i: __m256i,
+    tx: __m256,
+    ty: __m256,
+) -> (__m256, __m256, __m256) {
+    use std::arch::x86_64::*;
+    let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
+    // SAFETY: the caller keeps every index's pair of pixels in both rows.
+    let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
+        (
+            _mm256_i32gather_pd::<4>(data as *const f64, first),
+            _mm256_i32gather_pd::<4>(data as *const f64, last),
+            _mm256_i32gather_pd::<4>(below as *const f64, first),
+            _mm256_i32gather_pd::<4>(below as *const f64, last),
+        )
+    };
+    let (a, b) = split_pairs(top_lo, top_hi);
+    let (d, e) = split_pairs(bottom_lo, bottom_hi);
+    let (upper, lower) = (_mm256_sub_ps(b, a), _mm256_sub_ps(e, d));
+    let top = _mm256_add_ps(a, _mm256_mul_ps(tx, upper));
+    let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, lower));
+    let gy = _mm256_sub_ps(bottom, top);
+    let value = _mm256_add_ps(top, _mm256_mul_ps(ty, gy));
+    let gx = _mm256_add_ps(upper, _mm256_mul_ps(ty, _mm256_sub_ps(lower, upper)));
+    (value, gx, gy)
+}
+
 /// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
 /// and the rights.
 #[cfg(target_arch = "x86_64")]
@@ -465,6 +739,16 @@ fn bilinear_clamped(p: &Plane, x: f32, y: f32) -> f32 {
     let (a, b) = (p.data[r0 + c0], p.data[r0 + c1]);
     let (d, e) = (p.data[r1 + c0], p.data[r1 + c1]);
     blend(a, b, d, e, tx, ty)
+}
+
+/// [`blend`] and its slopes along x and y (the fractions move one for one with the tap).
+#[inline]
+fn blend_slopes(a: f32, b: f32, d: f32, e: f32, tx: f32, ty: f32) -> (f32, f32, f32) {
+    let (upper, lower) = (b - a, e - d);
+    let top = a + tx * upper;
+    let bottom = d + tx * lower;
+    let gy = bottom - top;
+    (top + ty * gy, upper + ty * (lower - upper), gy)
 }
 
 /// Bilinear blend of a pixel's four neighbours (a b on top, d e below) at fractions (tx, ty).
@@ -587,6 +871,72 @@ mod tests {
             assert!((plain - s).abs() < 1e-4 * (1.0 + plain.abs()));
             assert!((plain_n - n).abs() < 1e-4);
         }
+    }
+
+    /// The slope sums: the vector and scalar paths agree to the bit (inside and near the
+    /// edge), their sums are what `sum` gives, and their slopes are the derivatives of the sum
+    /// (central differences over a step small against a pixel, so that no tap crosses a
+    /// pixel boundary's kink in most lanes: a loose tolerance covers those that do).
+    #[test]
+    fn slopes_are_the_derivatives_of_the_sum() {
+        let raw = noise_plane(64, 48);
+        let plane = Bordered::new(&raw);
+        let taps = some_taps();
+        let mut edge_poses = 0;
+        for k in 0..60 {
+            let phi = k as f32 * 0.41;
+            let near_edge = k % 3 == 0;
+            let at = Placement {
+                // Off the pixel grid, so that no tap sits on a kink of the bilinear blend.
+                x: if near_edge { 2.137 } else { 20.137 } + (k % 7) as f32 * 3.1,
+                y: if near_edge { 1.291 } else { 18.291 } + (k % 5) as f32 * 2.3,
+                sin: phi.sin(),
+                cos: phi.cos(),
+            };
+            let floor = if k % 2 == 0 { 0.0 } else { 0.4 };
+            let slopes = taps.sum_with_slopes(at, &plane, floor);
+            let (sum, weight) = taps.sum(at, &plane, floor);
+            let scalar = if !taps.inside(at, &plane) {
+                edge_poses += 1;
+                taps.slopes_near_edge_scalar(at, &plane, floor)
+            } else {
+                taps.slopes_inside_scalar(at, &plane, floor)
+            };
+            assert_eq!(slopes, scalar);
+            assert_eq!(
+                (slopes.sum.to_bits(), slopes.weight.to_bits()),
+                (sum.to_bits(), weight.to_bits())
+            );
+            let h = 1e-4f32;
+            let shifted = |dx: f32, dy: f32, dphi: f32| {
+                let p = phi + dphi;
+                let at = Placement {
+                    x: at.x + dx,
+                    y: at.y + dy,
+                    sin: p.sin(),
+                    cos: p.cos(),
+                };
+                taps.sum(at, &plane, floor)
+            };
+            let ends = [
+                (shifted(h, 0.0, 0.0), shifted(-h, 0.0, 0.0)),
+                (shifted(0.0, h, 0.0), shifted(0.0, -h, 0.0)),
+                (shifted(0.0, 0.0, h), shifted(0.0, 0.0, -h)),
+            ];
+            let numeric = ends.map(|(p, m)| f64::from(p.0 - m.0) / (2.0 * f64::from(h)));
+            let analytic = [slopes.dx, slopes.dy, slopes.dphi].map(f64::from);
+            for ((n, a), (p, m)) in numeric.iter().zip(analytic).zip(ends) {
+                // A tap entering or leaving the photograph is a step, not a slope.
+                if p.1 != weight || m.1 != weight {
+                    continue;
+                }
+                assert!(
+                    (n - a).abs() < 0.05 * (1.0 + a.abs()),
+                    "pose {k}: numeric {numeric:?}, analytic {analytic:?}"
+                );
+            }
+        }
+        assert!(edge_poses >= 10, "{edge_poses} poses near the edge");
     }
 
     /// Near the edge only the taps inside the plane count, with their weights.
