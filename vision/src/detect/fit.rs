@@ -2,6 +2,8 @@
 //! darkness, a few parabolic steps there for its best distinct poses, then sub-pixel,
 //! sub-degree Newton refinement of each on the full-resolution darkness.
 
+use nalgebra::{Matrix3, Vector3};
+
 use super::model::{Model, Pose, Score};
 use super::plane::Bordered;
 
@@ -160,78 +162,65 @@ pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
     newton.fitted()
 }
 
-/// The state of one Newton refinement.
+/// The state of one Newton refinement, in (x, y, angle).
 struct Newton {
     pose: Pose,
     value: f64,
     score: Score,
-    gradient: [f64; 3],
+    gradient: Vector3<f64>,
     /// Curvature of the negated total (positive definite at a maximum).
-    curvature: [[f64; 3]; 3],
+    curvature: Matrix3<f64>,
     /// Largest step along each coordinate.
-    reach: [f64; 3],
+    reach: Vector3<f64>,
     /// Probe steps: half a pixel, and the angle that moves the grain's ends half a pixel.
-    probe: [f64; 3],
+    probe: Vector3<f64>,
     converged: bool,
 }
 
-fn moved(p: Pose, d: [f64; 3]) -> Pose {
+fn moved(p: Pose, d: &Vector3<f64>) -> Pose {
     Pose {
-        x: p.x + d[0],
-        y: p.y + d[1],
-        phi: p.phi + d[2],
+        x: p.x + d.x,
+        y: p.y + d.y,
+        phi: p.phi + d.z,
     }
 }
 
-fn eval_slopes(levels: &Levels, p: Pose) -> (f64, Score, [f64; 3]) {
+fn eval_slopes(levels: &Levels, p: Pose) -> (f64, Score, Vector3<f64>) {
     let (score, gradient) = levels
         .fine_model
         .score_with_slopes(p, levels.fine, levels.fine_free);
-    (score.total as f64, score, gradient)
+    (score.total as f64, score, Vector3::from(gradient))
 }
 
-// Three coordinates: the 3 x 3 algebra reads best with indices.
-#[allow(clippy::needless_range_loop)]
 impl Newton {
     /// Scores the start and measures the curvature there (four passes over the taps); the
     /// best of the poses scored becomes the current one.
     fn start(levels: &Levels, start: Pose, position_step: f64) -> Newton {
         let (value, score, gradient) = eval_slopes(levels, start);
         let half_length = f64::from(levels.fine_model.half_length()).max(1.0);
-        let probe = [0.5, 0.5, 0.5 / half_length];
-        let mut curvature = [[0.0f64; 3]; 3];
-        let mut best: Option<(f64, Pose, Score, [f64; 3])> = None;
+        let probe = Vector3::new(0.5, 0.5, 0.5 / half_length);
+        let mut curvature = Matrix3::zeros();
+        let mut best: Option<(f64, Pose, Score, Vector3<f64>)> = None;
         for axis in 0..3 {
-            let mut d = [0.0; 3];
+            let mut d = Vector3::zeros();
             d[axis] = probe[axis];
-            let q = moved(start, d);
+            let q = moved(start, &d);
             let (v, s, g) = eval_slopes(levels, q);
-            for row in 0..3 {
-                curvature[row][axis] = -(g[row] - gradient[row]) / probe[axis];
-            }
+            curvature.set_column(axis, &(-(g - gradient) / probe[axis]));
             if v > value && best.is_none_or(|(bv, ..)| v > bv) {
                 best = Some((v, q, s, g));
             }
         }
-        for row in 0..3 {
-            for col in 0..row {
-                let m = 0.5 * (curvature[row][col] + curvature[col][row]);
-                curvature[row][col] = m;
-                curvature[col][row] = m;
-            }
-        }
+        let curvature = 0.5 * (curvature + curvature.transpose());
         let (value, pose, score, gradient) = best.unwrap_or((value, start, score, gradient));
+        let position_reach = position_step.max(0.5);
         Newton {
             pose,
             value,
             score,
             gradient,
             curvature,
-            reach: [
-                position_step.max(0.5),
-                position_step.max(0.5),
-                0.5 * COARSE_ANGLE_STEP,
-            ],
+            reach: Vector3::new(position_reach, position_reach, 0.5 * COARSE_ANGLE_STEP),
             probe,
             converged: false,
         }
@@ -243,26 +232,19 @@ impl Newton {
             if self.converged {
                 return;
             }
-            let mut step = newton_step(&self.curvature, &self.gradient);
-            let scale = (0..3)
-                .map(|k| step[k].abs() / self.reach[k])
-                .fold(1.0f64, f64::max);
-            for d in &mut step {
-                *d /= scale;
-            }
-            let q = moved(self.pose, step);
+            let step = newton_step(&self.curvature, &self.gradient);
+            let scale = step.abs().component_div(&self.reach).max().max(1.0);
+            let step = step / scale;
+            let q = moved(self.pose, &step);
             let (v, s, g) = eval_slopes(levels, q);
             // Secant update of the curvature from the gradient change along the step.
-            let change: [f64; 3] = std::array::from_fn(|k| self.gradient[k] - g[k]);
-            bfgs_update(&mut self.curvature, &step, &change);
-            self.converged = step[0].abs().max(step[1].abs()) < CONVERGED * self.probe[0]
-                && step[2].abs() < CONVERGED * self.probe[2];
+            bfgs_update(&mut self.curvature, &step, &(self.gradient - g));
+            self.converged = step.x.abs().max(step.y.abs()) < CONVERGED * self.probe.x
+                && step.z.abs() < CONVERGED * self.probe.z;
             if v > self.value {
                 (self.value, self.pose, self.score, self.gradient) = (v, q, s, g);
             } else {
-                for k in 0..3 {
-                    self.reach[k] = 0.5 * step[k].abs().max(1e-3 * self.probe[k]);
-                }
+                self.reach = 0.5 * step.abs().sup(&(1e-3 * self.probe));
             }
         }
     }
@@ -287,69 +269,20 @@ const CONVERGED: f64 = 0.1;
 /// The step `curvature`^-1 `gradient` (an ascent step when the curvature of the negated
 /// total is positive definite); where it is not, a step along the gradient scaled by the
 /// diagonal's magnitude.
-#[allow(clippy::needless_range_loop)]
-fn newton_step(curvature: &[[f64; 3]; 3], gradient: &[f64; 3]) -> [f64; 3] {
-    if let Some(l) = cholesky(curvature) {
-        // Solve L y = g, then L^T s = y.
-        let mut y = [0.0; 3];
-        for i in 0..3 {
-            let mut t = gradient[i];
-            for j in 0..i {
-                t -= l[i][j] * y[j];
-            }
-            y[i] = t / l[i][i];
-        }
-        let mut s = [0.0; 3];
-        for i in (0..3).rev() {
-            let mut t = y[i];
-            for j in i + 1..3 {
-                t -= l[j][i] * s[j];
-            }
-            s[i] = t / l[i][i];
-        }
-        return s;
+fn newton_step(curvature: &Matrix3<f64>, gradient: &Vector3<f64>) -> Vector3<f64> {
+    match curvature.cholesky() {
+        Some(c) => c.solve(gradient),
+        None => gradient.component_div(&curvature.diagonal().abs().map(|d| d.max(1e-9))),
     }
-    std::array::from_fn(|k| gradient[k] / curvature[k][k].abs().max(1e-9))
-}
-
-/// Lower Cholesky factor of a symmetric 3 x 3 matrix, if it is positive definite.
-#[allow(clippy::needless_range_loop)]
-fn cholesky(m: &[[f64; 3]; 3]) -> Option<[[f64; 3]; 3]> {
-    let mut l = [[0.0f64; 3]; 3];
-    for i in 0..3 {
-        for j in 0..=i {
-            let mut t = m[i][j];
-            for k in 0..j {
-                t -= l[i][k] * l[j][k];
-            }
-            if i == j {
-                if t <= 0.0 || !t.is_finite() {
-                    return None;
-                }
-                l[i][i] = t.sqrt();
-            } else {
-                l[i][j] = t / l[j][j];
-            }
-        }
-    }
-    Some(l)
 }
 
 /// BFGS update of a positive definite curvature from a step `s` and the gradient change
 /// `y` along it (of the negated total); skipped when the pair does not keep it positive.
-fn bfgs_update(b: &mut [[f64; 3]; 3], s: &[f64; 3], y: &[f64; 3]) {
-    let dot = |a: &[f64; 3], c: &[f64; 3]| a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
-    let bs: [f64; 3] = std::array::from_fn(|i| dot(&b[i], s));
-    let (ys, sbs) = (dot(y, s), dot(s, &bs));
-    let norm = |a: &[f64; 3]| dot(a, a).sqrt();
-    let keeps_positive = ys > 1e-10 * norm(y) * norm(s) && sbs > 0.0;
-    if !keeps_positive {
-        return;
-    }
-    for i in 0..3 {
-        for j in 0..3 {
-            b[i][j] += y[i] * y[j] / ys - bs[i] * bs[j] / sbs;
-        }
+fn bfgs_update(b: &mut Matrix3<f64>, s: &Vector3<f64>, y: &Vector3<f64>) {
+    let bs = *b * s;
+    let (ys, sbs) = (y.dot(s), s.dot(&bs));
+    if ys > 1e-10 * y.norm() * s.norm() && sbs > 0.0 {
+        *b += y * y.transpose() / ys - bs * bs.transpose() / sbs;
     }
 }
 
