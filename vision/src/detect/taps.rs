@@ -275,42 +275,13 @@ impl Taps {
         let below = unsafe { data.add(plane.stride) };
         let (ox, oy) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
         let at = PlacementX8::new(at);
-        let half = _mm256_set1_ps(0.5);
-        let zero = _mm256_setzero_ps();
-        let (wf, hf) = (
-            _mm256_set1_ps(plane.width as f32),
-            _mm256_set1_ps(plane.height as f32),
-        );
+        let edge = EdgeX8::new(plane);
         let floor = _mm256_set1_ps(floor);
-        let stride = _mm256_set1_epi32(plane.stride as i32);
-        let (last_c, last_r) = (
-            _mm256_set1_epi32(plane.width as i32 - 1),
-            _mm256_set1_epi32(plane.height as i32 - 1),
-        );
-        let border = _mm256_set1_epi32(-1);
         let mut acc = [_mm256_setzero_ps(); 5];
         for k in (0..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
             let (x, y, w) = unsafe { at.taps(self, k) };
-            let seen = _mm256_and_ps(
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(y, zero),
-                ),
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_LT_OQ>(x, wf),
-                    _mm256_cmp_ps::<_CMP_LT_OQ>(y, hf),
-                ),
-            );
-            let w = _mm256_and_ps(w, seen);
-            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
-            let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
-            let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
-            let clamp =
-                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, border), last);
-            let c = clamp(_mm256_cvttps_epi32(cf), last_c);
-            let r = clamp(_mm256_cvttps_epi32(rf), last_r);
-            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            let (w, i, tx, ty) = edge.lookup(x, y, w);
             // SAFETY: every index is clamped into the bordered plane.
             let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
             acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
@@ -500,42 +471,13 @@ impl Taps {
         let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
         let below = unsafe { data.add(plane.stride) };
         let at = PlacementX8::new(at);
-        let half = _mm256_set1_ps(0.5);
-        let zero = _mm256_setzero_ps();
-        let (width, height) = (plane.width as f32, plane.height as f32);
-        let (wf, hf) = (_mm256_set1_ps(width), _mm256_set1_ps(height));
+        let edge = EdgeX8::new(plane);
         let floor = _mm256_set1_ps(floor);
-        let stride = _mm256_set1_epi32(plane.stride as i32);
-        let (last_c, last_r) = (
-            _mm256_set1_epi32(plane.width as i32 - 1),
-            _mm256_set1_epi32(plane.height as i32 - 1),
-        );
-        let border = _mm256_set1_epi32(-1);
         let (mut acc, mut acc_w) = (_mm256_setzero_ps(), _mm256_setzero_ps());
         for k in (0..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
             let (x, y, w) = unsafe { at.taps(self, k) };
-            let seen = _mm256_and_ps(
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
-                    _mm256_cmp_ps::<_CMP_GE_OQ>(y, zero),
-                ),
-                _mm256_and_ps(
-                    _mm256_cmp_ps::<_CMP_LT_OQ>(x, wf),
-                    _mm256_cmp_ps::<_CMP_LT_OQ>(y, hf),
-                ),
-            );
-            let w = _mm256_and_ps(w, seen);
-            let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
-            let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
-            let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
-            // Clamped onto the border, a pixel and its right neighbour read what clamping
-            // each onto the plane would.
-            let clamp =
-                |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, border), last);
-            let c = clamp(_mm256_cvttps_epi32(cf), last_c);
-            let r = clamp(_mm256_cvttps_epi32(rf), last_r);
-            let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
+            let (w, i, tx, ty) = edge.lookup(x, y, w);
             // SAFETY: every index is clamped into the bordered plane.
             let value = unsafe { gather_bilinear(data, below, i, tx, ty) };
             acc = _mm256_add_ps(acc, _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
@@ -601,6 +543,69 @@ impl PlacementX8 {
             _mm256_mul_ps(v, self.cos),
         );
         (x, y, w)
+    }
+}
+
+/// What the near-edge paths need to look eight taps up in a [`Bordered`] plane.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct EdgeX8 {
+    width: __m256,
+    height: __m256,
+    stride: __m256i,
+    last_column: __m256i,
+    last_row: __m256i,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl EdgeX8 {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new(plane: &Bordered) -> Self {
+        use std::arch::x86_64::*;
+        Self {
+            width: _mm256_set1_ps(plane.width as f32),
+            height: _mm256_set1_ps(plane.height as f32),
+            stride: _mm256_set1_epi32(plane.stride as i32),
+            last_column: _mm256_set1_epi32(plane.width as i32 - 1),
+            last_row: _mm256_set1_epi32(plane.height as i32 - 1),
+        }
+    }
+
+    /// For taps at (x, y) with weights w: the weights with taps off the plane zeroed, the
+    /// index of each tap's top-left pixel clamped onto the border, and the bilinear
+    /// fractions. Clamped onto the border, a pixel and its right neighbour read what clamping
+    /// each onto the plane would.
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn lookup(self, x: __m256, y: __m256, w: __m256) -> (__m256, __m256i, __m256, __m256) {
+        use std::arch::x86_64::*;
+        let zero = _mm256_setzero_ps();
+        let half = _mm256_set1_ps(0.5);
+        let seen = _mm256_and_ps(
+            _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_GE_OQ>(x, zero),
+                _mm256_cmp_ps::<_CMP_GE_OQ>(y, zero),
+            ),
+            _mm256_and_ps(
+                _mm256_cmp_ps::<_CMP_LT_OQ>(x, self.width),
+                _mm256_cmp_ps::<_CMP_LT_OQ>(y, self.height),
+            ),
+        );
+        let w = _mm256_and_ps(w, seen);
+        let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
+        let (cf, rf) = (_mm256_floor_ps(fx), _mm256_floor_ps(fy));
+        let (tx, ty) = (_mm256_sub_ps(fx, cf), _mm256_sub_ps(fy, rf));
+        let border = _mm256_set1_epi32(-1);
+        let clamp = |i: __m256i, last: __m256i| _mm256_min_epi32(_mm256_max_epi32(i, border), last);
+        let c = clamp(_mm256_cvttps_epi32(cf), self.last_column);
+        let r = clamp(_mm256_cvttps_epi32(rf), self.last_row);
+        (
+            w,
+            _mm256_add_epi32(_mm256_mullo_epi32(r, self.stride), c),
+            tx,
+            ty,
+        )
     }
 }
 
