@@ -136,7 +136,7 @@ impl Taps {
     /// The slope sums one tap at a time, in the AVX2 path's operations and order.
     fn slopes_inside_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
         let stride = plane.stride;
-        let mut lanes = [[0.0f32; LANES]; 4];
+        let mut lanes = SlopeLanes::default();
         for k in 0..self.u.len() {
             let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
             let (x, y) = at.apply(u, v);
@@ -147,22 +147,9 @@ impl Taps {
             let (a, b) = (plane.data[i], plane.data[i + 1]);
             let (d, e) = (plane.data[i + stride], plane.data[i + stride + 1]);
             let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
-            let lane = k % LANES;
-            lanes[0][lane] += w * value.max(floor);
-            if value > floor {
-                let (wx, wy) = (w * gx, w * gy);
-                lanes[1][lane] += wx;
-                lanes[2][lane] += wy;
-                lanes[3][lane] += wx * (y - at.y) - wy * (x - at.x);
-            }
+            lanes.add(k % LANES, w, (value, gx, gy), (x - at.x, y - at.y), floor);
         }
-        Slopes {
-            sum: combine(lanes[0]),
-            weight: self.weight,
-            dx: combine(lanes[1]),
-            dy: combine(lanes[2]),
-            dphi: combine(lanes[3]),
-        }
+        lanes.slopes(Some(self.weight))
     }
 
     /// # Safety
@@ -175,12 +162,10 @@ impl Taps {
         // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
         let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
         let below = unsafe { data.add(plane.stride) };
-        let (ox, oy) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let mut acc = SlopeLanesX8::new(at, floor);
         let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
-        let floor = _mm256_set1_ps(floor);
         let stride = _mm256_set1_epi32(width);
-        let mut acc = [_mm256_setzero_ps(); 4];
         for k in (0..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
             let (x, y, w) = unsafe { at.taps(self, k) };
@@ -191,30 +176,9 @@ impl Taps {
             let i = _mm256_add_epi32(_mm256_mullo_epi32(r, stride), c);
             // SAFETY: `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
             let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
-            acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
-            let live = _mm256_cmp_ps::<_CMP_GT_OQ>(value, floor);
-            let w = _mm256_and_ps(w, live);
-            let (wx, wy) = (_mm256_mul_ps(w, gx), _mm256_mul_ps(w, gy));
-            acc[1] = _mm256_add_ps(acc[1], wx);
-            acc[2] = _mm256_add_ps(acc[2], wy);
-            let lever = _mm256_sub_ps(
-                _mm256_mul_ps(wx, _mm256_sub_ps(y, oy)),
-                _mm256_mul_ps(wy, _mm256_sub_ps(x, ox)),
-            );
-            acc[3] = _mm256_add_ps(acc[3], lever);
+            acc.add(w, value, gx, gy, x, y);
         }
-        let mut lanes = [[0.0f32; LANES]; 4];
-        for (l, a) in lanes.iter_mut().zip(acc) {
-            // SAFETY: each array holds exactly one vector.
-            unsafe { _mm256_storeu_ps(l.as_mut_ptr(), a) };
-        }
-        Slopes {
-            sum: combine(lanes[0]),
-            weight: self.weight,
-            dx: combine(lanes[1]),
-            dy: combine(lanes[2]),
-            dphi: combine(lanes[3]),
-        }
+        acc.slopes(Some(self.weight))
     }
 
     /// The slope sums of a placement near or beyond the edge: taps outside count for
@@ -230,7 +194,7 @@ impl Taps {
 
     /// [`Taps::slopes_near_edge`] one tap at a time, in the AVX2 path's operations and order.
     fn slopes_near_edge_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
-        let mut lanes = [[0.0f32; LANES]; 5];
+        let mut lanes = SlopeLanes::default();
         for (k, ((&u, &v), &w)) in self.u.iter().zip(&self.v).zip(&self.w).enumerate() {
             let (x, y) = at.apply(u, v);
             let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
@@ -247,67 +211,29 @@ impl Taps {
                 plane.data[i + plane.stride + 1],
             );
             let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
-            let lane = k % LANES;
-            lanes[0][lane] += w * value.max(floor);
-            lanes[4][lane] += w;
-            if value > floor {
-                let (wx, wy) = (w * gx, w * gy);
-                lanes[1][lane] += wx;
-                lanes[2][lane] += wy;
-                lanes[3][lane] += wx * (y - at.y) - wy * (x - at.x);
-            }
+            lanes.add(k % LANES, w, (value, gx, gy), (x - at.x, y - at.y), floor);
         }
-        Slopes {
-            sum: combine(lanes[0]),
-            weight: combine(lanes[4]),
-            dx: combine(lanes[1]),
-            dy: combine(lanes[2]),
-            dphi: combine(lanes[3]),
-        }
+        lanes.slopes(None)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn slopes_near_edge_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
-        use std::arch::x86_64::*;
         // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
         let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
         let below = unsafe { data.add(plane.stride) };
-        let (ox, oy) = (_mm256_set1_ps(at.x), _mm256_set1_ps(at.y));
+        let mut acc = SlopeLanesX8::new(at, floor);
         let at = PlacementX8::new(at);
         let edge = EdgeX8::new(plane);
-        let floor = _mm256_set1_ps(floor);
-        let mut acc = [_mm256_setzero_ps(); 5];
         for k in (0..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
             let (x, y, w) = unsafe { at.taps(self, k) };
             let (w, i, tx, ty) = edge.lookup(x, y, w);
             // SAFETY: every index is clamped into the bordered plane.
             let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
-            acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, floor)));
-            acc[4] = _mm256_add_ps(acc[4], w);
-            let w = _mm256_and_ps(w, _mm256_cmp_ps::<_CMP_GT_OQ>(value, floor));
-            let (wx, wy) = (_mm256_mul_ps(w, gx), _mm256_mul_ps(w, gy));
-            acc[1] = _mm256_add_ps(acc[1], wx);
-            acc[2] = _mm256_add_ps(acc[2], wy);
-            let lever = _mm256_sub_ps(
-                _mm256_mul_ps(wx, _mm256_sub_ps(y, oy)),
-                _mm256_mul_ps(wy, _mm256_sub_ps(x, ox)),
-            );
-            acc[3] = _mm256_add_ps(acc[3], lever);
+            acc.add(w, value, gx, gy, x, y);
         }
-        let mut lanes = [[0.0f32; LANES]; 5];
-        for (l, a) in lanes.iter_mut().zip(acc) {
-            // SAFETY: each array holds exactly one vector.
-            unsafe { _mm256_storeu_ps(l.as_mut_ptr(), a) };
-        }
-        Slopes {
-            sum: combine(lanes[0]),
-            weight: combine(lanes[4]),
-            dx: combine(lanes[1]),
-            dy: combine(lanes[2]),
-            dphi: combine(lanes[3]),
-        }
+        acc.slopes(None)
     }
 
     /// Padded taps (a whole number of lanes).
@@ -543,6 +469,102 @@ impl PlacementX8 {
             _mm256_mul_ps(v, self.cos),
         );
         (x, y, w)
+    }
+}
+
+/// The slope passes' five sums, lane by lane: score, its slopes in x, y and the angle, and
+/// the weight of the taps seen.
+#[derive(Default)]
+struct SlopeLanes {
+    lanes: [[f32; LANES]; 5],
+}
+
+impl SlopeLanes {
+    /// One tap in `lane`: weight w, darkness and its slopes, offset from the grain's centre.
+    fn add(
+        &mut self,
+        lane: usize,
+        w: f32,
+        (value, gx, gy): (f32, f32, f32),
+        (dx, dy): (f32, f32),
+        floor: f32,
+    ) {
+        let l = &mut self.lanes;
+        l[0][lane] += w * value.max(floor);
+        l[4][lane] += w;
+        // Where the darkness is floored the score does not move with the pose.
+        if value > floor {
+            let (wx, wy) = (w * gx, w * gy);
+            l[1][lane] += wx;
+            l[2][lane] += wy;
+            l[3][lane] += wx * dy - wy * dx;
+        }
+    }
+
+    /// The sums, with `weight` when the caller knows it (every tap seen).
+    fn slopes(&self, weight: Option<f32>) -> Slopes {
+        let l = &self.lanes;
+        Slopes {
+            sum: combine(l[0]),
+            weight: weight.unwrap_or_else(|| combine(l[4])),
+            dx: combine(l[1]),
+            dy: combine(l[2]),
+            dphi: combine(l[3]),
+        }
+    }
+}
+
+/// [`SlopeLanes`] on eight lanes, the same operations.
+#[cfg(target_arch = "x86_64")]
+struct SlopeLanesX8 {
+    acc: [__m256; 5],
+    floor: __m256,
+    x: __m256,
+    y: __m256,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl SlopeLanesX8 {
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn new(at: Placement, floor: f32) -> Self {
+        use std::arch::x86_64::*;
+        Self {
+            acc: [_mm256_setzero_ps(); 5],
+            floor: _mm256_set1_ps(floor),
+            x: _mm256_set1_ps(at.x),
+            y: _mm256_set1_ps(at.y),
+        }
+    }
+
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn add(&mut self, w: __m256, value: __m256, gx: __m256, gy: __m256, x: __m256, y: __m256) {
+        use std::arch::x86_64::*;
+        let acc = &mut self.acc;
+        acc[0] = _mm256_add_ps(acc[0], _mm256_mul_ps(w, _mm256_max_ps(value, self.floor)));
+        acc[4] = _mm256_add_ps(acc[4], w);
+        let w = _mm256_and_ps(w, _mm256_cmp_ps::<_CMP_GT_OQ>(value, self.floor));
+        let (wx, wy) = (_mm256_mul_ps(w, gx), _mm256_mul_ps(w, gy));
+        acc[1] = _mm256_add_ps(acc[1], wx);
+        acc[2] = _mm256_add_ps(acc[2], wy);
+        let lever = _mm256_sub_ps(
+            _mm256_mul_ps(wx, _mm256_sub_ps(y, self.y)),
+            _mm256_mul_ps(wy, _mm256_sub_ps(x, self.x)),
+        );
+        acc[3] = _mm256_add_ps(acc[3], lever);
+    }
+
+    #[target_feature(enable = "avx2")]
+    #[inline]
+    fn slopes(&self, weight: Option<f32>) -> Slopes {
+        use std::arch::x86_64::*;
+        let mut lanes = SlopeLanes::default();
+        for (l, a) in lanes.lanes.iter_mut().zip(self.acc) {
+            // SAFETY: each array holds exactly one vector.
+            unsafe { _mm256_storeu_ps(l.as_mut_ptr(), a) };
+        }
+        lanes.slopes(weight)
     }
 }
 
