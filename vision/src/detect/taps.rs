@@ -659,19 +659,8 @@ unsafe fn gather_bilinear(
     tx: __m256,
     ty: __m256,
 ) -> __m256 {
-    use std::arch::x86_64::*;
-    let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
-    // SAFETY: the caller keeps every index's pair of pixels in both rows.
-    let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
-        (
-            _mm256_i32gather_pd::<4>(data as *const f64, first),
-            _mm256_i32gather_pd::<4>(data as *const f64, last),
-            _mm256_i32gather_pd::<4>(below as *const f64, first),
-            _mm256_i32gather_pd::<4>(below as *const f64, last),
-        )
-    };
-    let (a, b) = split_pairs(top_lo, top_hi);
-    let (d, e) = split_pairs(bottom_lo, bottom_hi);
+    // SAFETY: as the caller's.
+    let (a, b, d, e) = unsafe { gather_corners(data, below, i) };
     blend_x8(a, b, d, e, tx, ty)
 }
 
@@ -690,6 +679,31 @@ unsafe fn gather_bilinear_slopes(
     ty: __m256,
 ) -> (__m256, __m256, __m256) {
     use std::arch::x86_64::*;
+    // SAFETY: as the caller's.
+    let (a, b, d, e) = unsafe { gather_corners(data, below, i) };
+    let (upper, lower) = (_mm256_sub_ps(b, a), _mm256_sub_ps(e, d));
+    let top = _mm256_add_ps(a, _mm256_mul_ps(tx, upper));
+    let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, lower));
+    let gy = _mm256_sub_ps(bottom, top);
+    let value = _mm256_add_ps(top, _mm256_mul_ps(ty, gy));
+    let gx = _mm256_add_ps(upper, _mm256_mul_ps(ty, _mm256_sub_ps(lower, upper)));
+    (value, gx, gy)
+}
+
+/// The four pixels around each of eight taps: top left and right (a, b) from `data`, bottom
+/// left and right (d, e) from `below`, each pair read as one 64-bit element.
+///
+/// # Safety
+/// As [`gather_bilinear`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+#[inline]
+unsafe fn gather_corners(
+    data: *const f32,
+    below: *const f32,
+    i: __m256i,
+) -> (__m256, __m256, __m256, __m256) {
+    use std::arch::x86_64::*;
     let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
     // SAFETY: the caller keeps every index's pair of pixels in both rows.
     let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
@@ -702,13 +716,7 @@ unsafe fn gather_bilinear_slopes(
     };
     let (a, b) = split_pairs(top_lo, top_hi);
     let (d, e) = split_pairs(bottom_lo, bottom_hi);
-    let (upper, lower) = (_mm256_sub_ps(b, a), _mm256_sub_ps(e, d));
-    let top = _mm256_add_ps(a, _mm256_mul_ps(tx, upper));
-    let bottom = _mm256_add_ps(d, _mm256_mul_ps(tx, lower));
-    let gy = _mm256_sub_ps(bottom, top);
-    let value = _mm256_add_ps(top, _mm256_mul_ps(ty, gy));
-    let gx = _mm256_add_ps(upper, _mm256_mul_ps(ty, _mm256_sub_ps(lower, upper)));
-    (value, gx, gy)
+    (a, b, d, e)
 }
 
 /// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
