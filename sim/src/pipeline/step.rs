@@ -400,6 +400,7 @@ impl World {
             ..
         } = &mut self.dormancy;
         let sleep = *sleep;
+        let gravity_norm = gravity.norm();
         let woke = (
             force,
             torque,
@@ -447,13 +448,12 @@ impl World {
                     // The rest of the step, grain by grain, now that its force is known: a watched
                     // sleeper disturbed wakes, the awake grains take the second half kick, and
                     // count how long they have been quiet.
-                    let weight = mass[i] * gravity.norm();
-                    let (x, theta) = (position[i], angle[i]);
+                    let weight = mass[i] * gravity_norm;
+                    let here = (position[i], angle[i]);
                     let mut woke = false;
                     if let Some(s) = &sleep {
                         if *watched && s.disturbed(f, t, asleep_load[i], weight, arm[i]) {
-                            (*awake, *watched, *quiet_steps, *anchor) =
-                                (true, false, 0, (x, theta));
+                            (*awake, *watched, *quiet_steps, *anchor) = (true, false, 0, here);
                             woke = true;
                         }
                     }
@@ -462,10 +462,10 @@ impl World {
                         *v = *v * d + f * (inverse_mass[i] * kick);
                         *w = *w * d + t * inverse_inertia[i] * kick;
                         if let Some(s) = &sleep {
-                            if s.quiet(*v, *w, f, t, weight, arm[i], (x, theta), *anchor) {
+                            if s.quiet(*v, *w, f, t, weight, arm[i], here, *anchor) {
                                 *quiet_steps = quiet_steps.saturating_add(1);
                             } else {
-                                (*quiet_steps, *anchor) = (0, (x, theta));
+                                (*quiet_steps, *anchor) = (0, here);
                             }
                         }
                     }
