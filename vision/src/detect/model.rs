@@ -11,7 +11,7 @@
 use crate::GrainShape;
 
 use super::plane::{Bordered, Plane};
-use super::taps::{LANES, Placement, Slopes, Taps};
+use super::taps::{LANES, Placement, Taps};
 
 /// Rounding radius of the grains' corners, as a fraction of the width D.
 const ROUNDING: f64 = 0.05;
@@ -347,13 +347,11 @@ impl Model {
         free: &Bordered,
     ) -> (Score, [f64; 3]) {
         let at = placement(pose);
-        let interior = self.interior.sum_with_slopes(at, free, 0.0);
-        let hole = self.hole.sum_with_slopes(at, dark, 0.0);
-        let ring = self.ring.sum_with_slopes(at, dark, 0.0);
-        let axis = self
-            .highlight
-            .sum_with_slopes(at, dark, self.highlight_floor);
-        let flank = self.flank.sum_with_slopes(at, dark, 0.0);
+        let cues = self.cues();
+        let slopes = cues.map(|(taps, on_free, floor, _)| {
+            taps.sum_with_slopes(at, if on_free { free } else { dark }, floor)
+        });
+        let [interior, hole, ring, axis, flank] = &slopes;
         let score = self.finish(
             (interior.sum, interior.weight),
             (hole.sum, hole.weight),
@@ -362,18 +360,11 @@ impl Model {
             flank.sum,
         );
         // The total is linear in each cue's sum, with the coefficients of `cues`.
-        let parts: [(&Slopes, f64); 5] = [
-            (&interior, 2.0),
-            (&hole, -2.0 * f64::from(HOLE_WEIGHT)),
-            (&ring, -2.0 * f64::from(RING_WEIGHT)),
-            (&axis, -f64::from(HIGHLIGHT_WEIGHT)),
-            (&flank, -f64::from(HIGHLIGHT_WEIGHT)),
-        ];
         let mut gradient = [0.0f64; 3];
-        for (slopes, coefficient) in parts {
-            gradient[0] += coefficient * f64::from(slopes.dx);
-            gradient[1] += coefficient * f64::from(slopes.dy);
-            gradient[2] += coefficient * f64::from(slopes.dphi);
+        for (s, (_, _, _, coefficient)) in slopes.iter().zip(cues) {
+            gradient[0] += coefficient * f64::from(s.dx);
+            gradient[1] += coefficient * f64::from(s.dy);
+            gradient[2] += coefficient * f64::from(s.dphi);
         }
         (score, gradient)
     }
