@@ -135,17 +135,11 @@ impl Taps {
 
     /// The slope sums one tap at a time, in the AVX2 path's operations and order.
     fn slopes_inside_scalar(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
-        let stride = plane.stride;
         let mut lanes = SlopeLanes::default();
         for k in 0..self.u.len() {
             let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
             let (x, y) = at.apply(u, v);
-            let (fx, fy) = (x - 0.5, y - 0.5);
-            let (c, r) = (fx as i32, fy as i32);
-            let (tx, ty) = (fx - c as f32, fy - r as f32);
-            let i = (r as usize + 1) * stride + c as usize + 1;
-            let (a, b) = (plane.data[i], plane.data[i + 1]);
-            let (d, e) = (plane.data[i + stride], plane.data[i + stride + 1]);
+            let ([a, b, d, e], (tx, ty)) = corners_inside(plane, x, y);
             let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
             lanes.add(k % LANES, w, (value, gx, gy), (x - at.x, y - at.y), floor);
         }
@@ -199,17 +193,7 @@ impl Taps {
             let (x, y) = at.apply(u, v);
             let seen = x >= 0.0 && y >= 0.0 && x < plane.width as f32 && y < plane.height as f32;
             let w = if seen { w } else { 0.0 };
-            let (fx, fy) = (x - 0.5, y - 0.5);
-            let (cf, rf) = (fx.floor(), fy.floor());
-            let (tx, ty) = (fx - cf, fy - rf);
-            let c = (cf as i32).clamp(-1, plane.width as i32 - 1);
-            let r = (rf as i32).clamp(-1, plane.height as i32 - 1);
-            let i = (r + 1) as usize * plane.stride + (c + 1) as usize;
-            let (a, b) = (plane.data[i], plane.data[i + 1]);
-            let (d, e) = (
-                plane.data[i + plane.stride],
-                plane.data[i + plane.stride + 1],
-            );
+            let ([a, b, d, e], (tx, ty)) = corners_bordered(plane, x, y);
             let (value, gx, gy) = blend_slopes(a, b, d, e, tx, ty);
             lanes.add(k % LANES, w, (value, gx, gy), (x - at.x, y - at.y), floor);
         }
@@ -295,17 +279,10 @@ impl Taps {
         lanes: &mut [f32; LANES],
         taps: std::ops::Range<usize>,
     ) {
-        let stride = plane.stride;
         for k in taps {
             let (u, v, w) = (self.u[k], self.v[k], self.w[k]);
             let (x, y) = at.apply(u, v);
-            let (fx, fy) = (x - 0.5, y - 0.5);
-            // Non-negative here, so truncation is the floor.
-            let (c, r) = (fx as i32, fy as i32);
-            let (tx, ty) = (fx - c as f32, fy - r as f32);
-            let i = (r as usize + 1) * stride + c as usize + 1;
-            let (a, b) = (plane.data[i], plane.data[i + 1]);
-            let (d, e) = (plane.data[i + stride], plane.data[i + stride + 1]);
+            let ([a, b, d, e], (tx, ty)) = corners_inside(plane, x, y);
             lanes[k % LANES] += w * blend(a, b, d, e, tx, ty).max(floor);
         }
     }
@@ -744,15 +721,40 @@ fn combine(l: [f32; LANES]) -> f32 {
 /// clamped onto its border, as the vector path does).
 #[inline]
 fn bilinear_bordered(p: &Bordered, x: f32, y: f32) -> f32 {
+    let ([a, b, d, e], (tx, ty)) = corners_bordered(p, x, y);
+    blend(a, b, d, e, tx, ty)
+}
+
+/// The four pixels around (x, y), neighbours beyond the edge clamped onto the border, and
+/// the bilinear fractions.
+fn corners_bordered(p: &Bordered, x: f32, y: f32) -> ([f32; 4], (f32, f32)) {
     let (fx, fy) = (x - 0.5, y - 0.5);
     let (cf, rf) = (fx.floor(), fy.floor());
     let (tx, ty) = (fx - cf, fy - rf);
     let c = (cf as i32).clamp(-1, p.width as i32 - 1);
     let r = (rf as i32).clamp(-1, p.height as i32 - 1);
     let i = (r + 1) as usize * p.stride + (c + 1) as usize;
-    let (a, b) = (p.data[i], p.data[i + 1]);
-    let (d, e) = (p.data[i + p.stride], p.data[i + p.stride + 1]);
-    blend(a, b, d, e, tx, ty)
+    (corners_at(p, i), (tx, ty))
+}
+
+/// The four pixels around (x, y) of a placement inside the plane ([`Taps::inside`]), where
+/// truncation is the floor, and the bilinear fractions.
+fn corners_inside(p: &Bordered, x: f32, y: f32) -> ([f32; 4], (f32, f32)) {
+    let (fx, fy) = (x - 0.5, y - 0.5);
+    let (c, r) = (fx as i32, fy as i32);
+    let (tx, ty) = (fx - c as f32, fy - r as f32);
+    let i = (r as usize + 1) * p.stride + c as usize + 1;
+    (corners_at(p, i), (tx, ty))
+}
+
+/// Pixel i of the bordered data, its right neighbour, and the two below them.
+fn corners_at(p: &Bordered, i: usize) -> [f32; 4] {
+    [
+        p.data[i],
+        p.data[i + 1],
+        p.data[i + p.stride],
+        p.data[i + p.stride + 1],
+    ]
 }
 
 /// Bilinear value at continuous pixel coordinates, neighbours clamped onto the plane.
