@@ -118,18 +118,6 @@ impl AnalysedArea {
 mod tests {
     use super::*;
 
-    fn grain(x: f64, y: f64, theta: f64, length: f64, width: f64) -> Grain {
-        Grain {
-            x,
-            y,
-            theta,
-            length,
-            width,
-            confidence: None,
-            cut: false,
-        }
-    }
-
     #[test]
     fn a_tiling_of_squares_fills_the_area_whatever_its_border_cuts() {
         // Squares of side D tiling the plane, the lattice turned and shifted: every point of
@@ -150,7 +138,7 @@ mod tests {
                 for j in -60..60 {
                     let (u, v) = ((i as f64 + shift) * d, (j as f64 + shift) * d);
                     let (x, y) = (0.128 + u * cos - v * sin, 0.35 + u * sin + v * cos);
-                    grains.push(grain(x, y, turn, d, d));
+                    grains.push(Grain::placed(x, y, turn, d, d));
                 }
             }
             let deposit = Deposit { grains };
@@ -168,11 +156,11 @@ mod tests {
         // third of its length inside, and one turned upright across the top border.
         let area = AnalysedArea::new([0.0, 0.256, 0.29, 0.41], 0.256).unwrap();
         let (l, w) = (8.9e-3, 3e-3);
-        let across = grain(0.040 - l / 6.0, 0.35, 0.0, l, w);
+        let across = Grain::placed(0.040 - l / 6.0, 0.35, 0.0, l, w);
         assert!((area.covered_by(&across) - l * w / 3.0).abs() < 1e-12 * l * w);
-        let upright = grain(0.1, 0.41 - 1e-3, std::f64::consts::FRAC_PI_2, l, w);
+        let upright = Grain::placed(0.1, 0.41 - 1e-3, std::f64::consts::FRAC_PI_2, l, w);
         assert!((area.covered_by(&upright) - (l / 2.0 + 1e-3) * w).abs() < 1e-12 * l * w);
-        let outside = grain(0.1, 0.2, 0.3, l, w);
+        let outside = Grain::placed(0.1, 0.2, 0.3, l, w);
         assert_eq!(area.covered_by(&outside), 0.0);
     }
 }

@@ -66,15 +66,7 @@ impl SquareStack {
         let index = |c: usize, r: usize| r * self.columns + c;
         let grains = (0..self.rows)
             .flat_map(|r| (0..self.columns).map(move |c| (c, r)))
-            .map(|(c, r)| Grain {
-                x: (c as f64 + 0.5) * d,
-                y: (r as f64 + 0.5) * d,
-                theta: 0.0,
-                length: d,
-                width: d,
-                confidence: None,
-                cut: false,
-            })
+            .map(|(c, r)| Grain::placed((c as f64 + 0.5) * d, (r as f64 + 0.5) * d, 0.0, d, d))
             .collect();
         let mut contacts = Vec::new();
         for r in 0..self.rows {

@@ -20,6 +20,20 @@ pub struct Grain {
 }
 
 impl Grain {
+    /// A grain whose pose is known exactly (simulated or built): no detector confidence, not
+    /// cut by a frame.
+    pub fn placed(x: f64, y: f64, theta: f64, length: f64, width: f64) -> Self {
+        Self {
+            x,
+            y,
+            theta,
+            length,
+            width,
+            confidence: None,
+            cut: false,
+        }
+    }
+
     /// A grain whose sides differ by less than 2 % is a square.
     pub fn is_square(&self) -> bool {
         (self.length - self.width).abs() < 0.02 * self.width

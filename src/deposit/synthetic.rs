@@ -28,16 +28,7 @@ pub fn jittered_lattice(
             let x = frame[0] + (c as f64 + 0.5 + jitter * rng.random_range(-1.0..1.0)) * spacing;
             let y = frame[2] + (r as f64 + 0.5 + jitter * rng.random_range(-1.0..1.0)) * spacing;
             let theta = angle_spread * rng.random_range(-1.0..1.0);
-            Grain {
-                x,
-                y,
-                theta,
-                length,
-                width,
-                confidence: None,
-                cut: false,
-            }
-            .folded()
+            Grain::placed(x, y, theta, length, width).folded()
         })
         .collect();
     Deposit { grains }

@@ -36,16 +36,7 @@ pub fn deposit_of(silo: &Silo, length: f64, width: f64) -> Deposit {
         .deposit_grains()
         .map(|i| {
             let g = world.grain(i);
-            Grain {
-                x: g.position.x,
-                y: g.position.y,
-                theta: g.angle,
-                length,
-                width,
-                confidence: None,
-                cut: false,
-            }
-            .folded()
+            Grain::placed(g.position.x, g.position.y, g.angle, length, width).folded()
         })
         .collect();
     Deposit { grains }

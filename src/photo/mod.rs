@@ -120,15 +120,7 @@ mod tests {
 
     #[test]
     fn squares_become_nuts_with_scaled_holes() {
-        let g = Grain {
-            x: 0.01,
-            y: 0.02,
-            theta: 0.1,
-            length: 6.9e-3,
-            width: 6.9e-3,
-            confidence: None,
-            cut: false,
-        };
+        let g = Grain::placed(0.01, 0.02, 0.1, 6.9e-3, 6.9e-3);
         let o = outline_of(&g);
         match o.shape {
             GrainShape::Square {
