@@ -55,6 +55,9 @@ pub struct PairContact {
     /// Elastic energy this pair's sub-contacts brought in by appearing, less what they took
     /// away by vanishing, since the pair was created (J). See [`super::Energies::switching`].
     pub switched: f64,
+    /// The pair cannot touch while the two grains' `travel` sums to less than this: their
+    /// travel when it was found apart, plus how far apart it was (0: look every step).
+    pub apart_until: f64,
 }
 
 /// One sub-contact as seen from outside: who, where, how hard.

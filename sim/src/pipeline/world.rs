@@ -89,6 +89,10 @@ pub struct World {
     /// Distance of the farthest core vertex from the centre.
     pub(crate) arm: Vec<f64>,
     pub(crate) mobile: Vec<bool>,
+    /// How far any point of each grain may have moved since it was added (m, an upper bound,
+    /// growing step by step): a pair found apart by a gap need not be looked at again until
+    /// its two grains have together travelled that far.
+    pub(crate) travel: Vec<f64>,
     pub(crate) skin: f64,
     pub(crate) verlet: VerletList,
     pub(crate) pair_contacts: Vec<PairContact>,
@@ -160,6 +164,7 @@ impl World {
             reach: Vec::new(),
             arm: Vec::new(),
             mobile: Vec::new(),
+            travel: Vec::new(),
             skin: f64::INFINITY,
             verlet: VerletList::default(),
             pair_contacts: Vec::new(),
@@ -281,6 +286,7 @@ impl World {
         self.arm
             .push(entry.shape.bounding_radius() - entry.shape.radius());
         self.mobile.push(mobile);
+        self.travel.push(0.0);
         self.dormancy.push(mobile, state.position, state.angle);
         let i = self.grains.len() - 1;
         self.place_core(i);
@@ -376,7 +382,8 @@ impl World {
         let per_grain = g.position.capacity() * (3 * size_of::<Vec2>())
             + g.angle.capacity() * (8 * size_of::<f64>())
             + g.shape.capacity() * size_of::<u32>()
-            + self.reach.capacity() * size_of::<f64>()
+            + (self.reach.capacity() + self.arm.capacity() + self.travel.capacity())
+                * size_of::<f64>()
             + self.mobile.capacity();
         let placed = (self.placed_vertices.capacity() + self.placed_directions.capacity())
             * size_of::<Vec2>();
@@ -442,6 +449,8 @@ impl World {
     /// Sets a grain's position and velocity (e.g. to place a grain at rest by hand).
     pub fn set_grain(&mut self, i: usize, state: GrainState) {
         let g = &mut self.grains;
+        // A turn moves a vertex by at most twice its arm.
+        self.travel[i] += (state.position - g.position[i]).norm() + 2.0 * self.arm[i];
         g.position[i] = state.position;
         g.angle[i] = state.angle;
         g.rotation[i] = unit(state.angle);

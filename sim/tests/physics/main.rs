@@ -1,5 +1,6 @@
 //! Physics tests of the engine: each compares with an exact or analytic answer.
 
+mod apart_pairs;
 mod checkpoint;
 mod collisions;
 mod common;
