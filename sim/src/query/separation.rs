@@ -7,19 +7,22 @@ use super::PlacedCore;
 /// nearest features are a vertex and an edge, and short of the distance when they are two
 /// corners; it never exceeds it, which is what a test that skips pairs needs.
 pub fn core_core_separation(first: &PlacedCore, second: &PlacedCore) -> f64 {
-    let apart_behind = |owner: &PlacedCore, other: &PlacedCore| {
-        (0..owner.len())
-            .map(|e| {
-                let (a, n) = (owner.vertices[e], owner.normal(e));
-                other
-                    .vertices
-                    .iter()
-                    .map(|q| (q - a).dot(&n))
-                    .fold(f64::INFINITY, f64::min)
-            })
-            .fold(f64::NEG_INFINITY, f64::max)
-    };
     apart_behind(first, second).max(apart_behind(second, first))
+}
+
+/// The widest gap between `other` and the lines of `owner`'s edges (q . n - a . n rounds
+/// differently from (q - a) . n by ~1e-18 m: the callers leave a margin far above that).
+fn apart_behind(owner: &PlacedCore, other: &PlacedCore) -> f64 {
+    let mut widest = f64::NEG_INFINITY;
+    for e in 0..owner.len() {
+        let n = owner.normal(e);
+        let mut nearest = f64::INFINITY;
+        for q in other.vertices {
+            nearest = nearest.min(q.dot(&n));
+        }
+        widest = widest.max(nearest - owner.vertices[e].dot(&n));
+    }
+    widest
 }
 
 #[cfg(test)]
