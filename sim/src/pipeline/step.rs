@@ -344,7 +344,10 @@ impl World {
                         // narrow phase would find nothing (a third of a dense deposit's pairs).
                         let travelled = travel[i] + travel[j];
                         if contact.subs.is_empty() && travelled < contact.apart_until {
-                            *push = Push::default();
+                            // Its push is already nothing, unless the lists moved it.
+                            if stale {
+                                *push = Push::default();
+                            }
                             return;
                         }
                         let (first, second) = (this.placed(i), this.placed(j));
