@@ -244,6 +244,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             width,
         };
         chains::repair(&mut found, &mut maps, &cx);
+        chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
     }
     found
 }
