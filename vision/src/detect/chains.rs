@@ -73,6 +73,7 @@ pub struct Context<'a> {
 }
 
 /// The maps with the grains `found` painted, except those in `skip`.
+#[cfg(test)]
 fn painted(found: &[Found], skip: &[usize], cx: &Context) -> Maps {
     let mut maps = Maps {
         explained: Plane::new(cx.dark.width, cx.dark.height, 0.0),
@@ -87,6 +88,7 @@ fn painted(found: &[Found], skip: &[usize], cx: &Context) -> Maps {
     maps
 }
 
+#[cfg(test)]
 fn paint(maps: &mut Maps, pose: Pose, cx: &Context) {
     cx.model.paint(
         pose,
@@ -103,6 +105,19 @@ fn paint(maps: &mut Maps, pose: Pose, cx: &Context) {
 pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
     let (length, width) = (cx.length, cx.width);
     let half = 0.5 * length;
+    let factor = cx.levels.factor as usize;
+    let coarse = maps.free.downsample(factor);
+    let coarse_bordered = Bordered::new(&coarse);
+    let mut local = Local {
+        maps,
+        coarse,
+        coarse_bordered,
+        factor,
+    };
+    let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
+    // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
+    // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
+    let pad = f64::from(ex.max(ey)) + length;
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
     for g in 0..found.len() {
@@ -110,7 +125,7 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
             if touched[g] {
                 break;
             }
-            let s1 = stub(&maps.free, found[g].pose, sign, half, width, length);
+            let s1 = stub(&local.maps.free, found[g].pose, sign, half, width, length);
             if s1 < 0.2 * length || s1 > 0.8 * length {
                 continue;
             }
@@ -141,7 +156,7 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
             // A row running into the photograph's edge: its last rod may be cut there, so the
             // room at that end need only hold most of a rod (with a third of one, the rods
             // added mostly outside the photograph cost rod53 0.6 degrees of orientation RMS).
-            let (s2, at_edge) = stub_to_edge(&maps.free, last, -sign, half, width, length);
+            let (s2, at_edge) = stub_to_edge(&local.maps.free, last, -sign, half, width, length);
             let room = s1 + s2;
             let fits = if at_edge {
                 room > 0.7 * length && room < 1.3 * length
@@ -151,39 +166,61 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
             if !fits {
                 continue;
             }
-            let without = painted(found, &row, cx);
-            let mut old = without.clone();
-            let mut old_total = 0.0;
-            for &p in &aligned {
-                let sc = cx.model.score(p, cx.levels.fine, &old.free_bordered);
-                old_total += f64::from(sc.total);
-                paint(&mut old, p, cx);
-            }
-            let mut new = without;
-            let mut new_total = 0.0;
-            let mut fitted = Vec::with_capacity(aligned.len() + 1);
-            let starts = aligned
+            let starts: Vec<Pose> = aligned
                 .iter()
                 .map(|&p| along(p, sign * s1))
-                .chain(std::iter::once(along(last, sign * s1 - sign * length)));
+                .chain(std::iter::once(along(last, sign * s1 - sign * length)))
+                .collect();
+            // The maps change in a window holding the row before and after, undone there
+            // when the repair is not kept.
+            let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+            for p in aligned.iter().chain(&starts) {
+                (x0, x1) = (x0.min(p.x), x1.max(p.x));
+                (y0, y1) = (y0.min(p.y), y1.max(p.y));
+            }
+            let window = Window::around(
+                0.5 * (x0 + x1),
+                0.5 * (y0 + y1),
+                0.5 * (x1 - x0) + pad,
+                0.5 * (y1 - y0) + pad,
+                &local.maps.free,
+            );
+            let original = local.save(window);
+            for &k in &row {
+                local.unpaint(found, k, &row, cx);
+            }
+            let without = local.save(window);
+            let mut old_total = 0.0;
+            for &p in &aligned {
+                let sc = cx.model.score(p, cx.levels.fine, &local.maps.free_bordered);
+                old_total += f64::from(sc.total);
+                local.paint(p, window, cx);
+            }
+            local.restore(window, &without);
+            let mut new_total = 0.0;
+            let mut fitted = Vec::with_capacity(aligned.len() + 1);
             let mut good = true;
             for start in starts {
-                let levels = Levels {
-                    fine_free: &new.free_bordered,
-                    ..cx.levels
+                let ft = {
+                    let levels = Levels {
+                        fine_free: &local.maps.free_bordered,
+                        ..cx.levels
+                    };
+                    fit::refine(&levels, start, 0.5 * cx.levels.factor)
                 };
-                let ft = fit::refine(&levels, start, 0.5 * cx.levels.factor);
                 if f64::from(ft.score.agreement) < cx.min_confidence
                     || f64::from(ft.score.visible) < cx.min_visible
+                    || !window.holds(local.box_of(ft.pose, cx.model))
                 {
                     good = false;
                     break;
                 }
                 new_total += f64::from(ft.score.total);
-                paint(&mut new, ft.pose, cx);
+                local.paint(ft.pose, window, cx);
                 fitted.push(ft);
             }
             if !good || new_total <= old_total {
+                local.restore(window, &original);
                 continue;
             }
             for (k, ft) in row.iter().chain(std::iter::once(&usize::MAX)).zip(&fitted) {
@@ -200,7 +237,6 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
                     touched[*k] = true;
                 }
             }
-            *maps = new;
             repaired += 1;
         }
     }
@@ -364,8 +400,9 @@ impl Local<'_> {
         self.update_coarse(w);
     }
 
-    /// Takes grain `g` off the maps: its box repainted from the other grains near it.
-    fn unpaint(&mut self, found: &[Found], g: usize, cx: &Context) {
+    /// Takes grain `g` off the maps: its box repainted from the other grains near it, but
+    /// those in `skip`.
+    fn unpaint(&mut self, found: &[Found], g: usize, skip: &[usize], cx: &Context) {
         let pose = found[g].pose;
         let b = self.box_of(pose, cx.model);
         for (c, r) in b.pixels() {
@@ -374,10 +411,12 @@ impl Local<'_> {
             self.maps.free.data[i] = cx.dark.data[i];
             self.maps.free_bordered.set(c, r, cx.dark.data[i]);
         }
-        let reach = cx.length.hypot(cx.width) + 4.0;
+        // A grain whose outline meets the box: its centre lies within the box's
+        // half-diagonal and its own (with ring and slack) of this centre.
+        let reach = 2.0 * cx.length.hypot(cx.width) + 8.0;
         for (k, other) in found.iter().enumerate() {
             let q = other.pose;
-            if k != g && (q.x - pose.x).hypot(q.y - pose.y) < reach {
+            if k != g && !skip.contains(&k) && (q.x - pose.x).hypot(q.y - pose.y) < reach {
                 self.paint(q, b, cx);
             }
         }
@@ -444,7 +483,7 @@ pub fn repair_turned(
         }
         let window = Window::around(p.x, p.y, reach, reach, &local.maps.free);
         let saved = local.save(window);
-        local.unpaint(found, g, cx);
+        local.unpaint(found, g, &[], cx);
         let old_total = f64::from(
             cx.model
                 .score(p, cx.levels.fine, &local.maps.free_bordered)
