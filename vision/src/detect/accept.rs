@@ -6,6 +6,7 @@
 use rayon::prelude::*;
 
 use super::DetectParams;
+use super::chains;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
 use super::nearby::Nearby;
@@ -216,6 +217,34 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         pending = deferred;
         coarse_explained = explained.downsample(factor);
         coarse_free = Bordered::new(&free.downsample(factor));
+    }
+    if let GrainShape::Rod { .. } = params.shape {
+        let mut maps = chains::Maps {
+            explained,
+            free,
+            free_bordered,
+        };
+        let cx = chains::Context {
+            dark,
+            levels: Levels {
+                fine: &dark_bordered,
+                // Each refit reads the free darkness of the moment instead.
+                fine_free: &dark_bordered,
+                coarse: &coarse_bordered,
+                coarse_free: &coarse_free,
+                fine_model: &fine_model,
+                coarse_model: &coarse_model,
+                factor: f,
+                period: params.shape.symmetry_period(),
+            },
+            model: &fine_model,
+            min_confidence: params.min_confidence,
+            min_visible: params.min_visible,
+            length,
+            width,
+        };
+        chains::repair(&mut found, &mut maps, &cx);
+        chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
     }
     found
 }

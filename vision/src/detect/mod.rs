@@ -12,12 +12,17 @@
 //!    ([`model`]) on a downsampled darkness, then sub-pixel, sub-degree refinement;
 //! 5. [`accept`]: greedy acceptance, best fits first, each accepted grain marking its pixels as
 //!    explained so touching grains separate and duplicates are refused; repeated while new
-//!    seeds in unexplained dark area yield grains.
+//!    seeds in unexplained dark area yield grains;
+//! 6. [`chains`]: rows of rods touching end to end that were fitted shifted along the row
+//!    (a stub of unexplained dark area at each end) are refitted with one rod more, and a rod
+//!    fitted across rods lying at right angles to it (their remainder unexplained beside it)
+//!    is refitted as those rods.
 //!
 //! Photographs above [`TILE_PIXELS`] go through steps 1-5 tile by tile, so memory stays
 //! bounded whatever their size.
 
 mod accept;
+mod chains;
 mod fit;
 mod model;
 mod nearby;

@@ -485,13 +485,37 @@ impl Model {
         free: &mut Plane,
         free_bordered: &mut Bordered,
     ) {
+        let all = (
+            0,
+            explained.width as isize - 1,
+            0,
+            explained.height as isize - 1,
+        );
+        self.paint_within(pose, dark, explained, free, free_bordered, all);
+    }
+
+    /// [`Model::paint`] on the pixels of columns `clip.0..=clip.1` and rows
+    /// `clip.2..=clip.3` only.
+    pub fn paint_within(
+        &self,
+        pose: Pose,
+        dark: &Plane,
+        explained: &mut Plane,
+        free: &mut Plane,
+        free_bordered: &mut Bordered,
+        clip: (isize, isize, isize, isize),
+    ) {
         let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
-        let c0 = ((px - ex).floor() as isize).max(0);
-        let c1 = ((px + ex).ceil() as isize).min(explained.width as isize - 1);
-        let r0 = ((py - ey).floor() as isize).max(0);
-        let r1 = ((py + ey).ceil() as isize).min(explained.height as isize - 1);
+        let c0 = ((px - ex).floor() as isize).max(0).max(clip.0);
+        let c1 = ((px + ex).ceil() as isize)
+            .min(explained.width as isize - 1)
+            .min(clip.1);
+        let r0 = ((py - ey).floor() as isize).max(0).max(clip.2);
+        let r1 = ((py + ey).ceil() as isize)
+            .min(explained.height as isize - 1)
+            .min(clip.3);
         for r in r0..=r1 {
             let dy = r as f32 + 0.5 - py;
             for c in c0..=c1 {
