@@ -13,7 +13,7 @@ use facets::io::write_atomic;
 /// the per-grain cost. The same scene for LAMMPS is in benches/peers/.
 #[derive(Debug, ClapArgs)]
 pub struct Args {
-    /// Cases as KIND:COUNT (kinds: square, rod53, rod3).
+    /// Cases as KIND:COUNT, comma-separated (kinds: square, rod53, rod3).
     #[arg(long, value_delimiter = ',', default_values = ["square:3000", "rod3:5000"])]
     cases: Vec<String>,
     /// Also run 30 000 squares: ten copies of the settled 3 000-square deposit stacked on each
@@ -30,7 +30,7 @@ pub struct Args {
     /// Time step used to let the grid fall and settle (s).
     #[arg(long, default_value_t = 2e-5)]
     settle_dt: f64,
-    /// Thread counts to time.
+    /// Thread counts to time, comma-separated (e.g. 1,2).
     #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2])]
     threads: Vec<usize>,
     /// Seed of the grain orientations.
