@@ -105,15 +105,7 @@ fn paint(maps: &mut Maps, pose: Pose, cx: &Context) {
 pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
     let (length, width) = (cx.length, cx.width);
     let half = 0.5 * length;
-    let factor = cx.levels.factor as usize;
-    let coarse = maps.free.downsample(factor);
-    let coarse_bordered = Bordered::new(&coarse);
-    let mut local = Local {
-        maps,
-        coarse,
-        coarse_bordered,
-        factor,
-    };
+    let mut local = Local::new(maps, cx.levels.factor as usize);
     let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
     // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
     // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
@@ -332,7 +324,19 @@ struct Local<'m> {
     factor: usize,
 }
 
-impl Local<'_> {
+impl<'m> Local<'m> {
+    /// The maps, with their coarse free darkness at `factor` made from them.
+    fn new(maps: &'m mut Maps, factor: usize) -> Self {
+        let coarse = maps.free.downsample(factor);
+        let coarse_bordered = Bordered::new(&coarse);
+        Self {
+            maps,
+            coarse,
+            coarse_bordered,
+            factor,
+        }
+    }
+
     /// The box a pose's outline and ring cover.
     fn box_of(&self, pose: Pose, model: &Model) -> Window {
         let (ex, ey) = model.extent(pose.phi);
@@ -440,15 +444,7 @@ pub fn repair_turned(
     let n = (length / width).round().max(2.0) as usize;
     let half_u = 0.5 * (n as f64 * width).max(length);
     let half_v = 0.5 * length;
-    let factor = cx.levels.factor as usize;
-    let coarse = maps.free.downsample(factor);
-    let coarse_bordered = Bordered::new(&coarse);
-    let mut local = Local {
-        maps,
-        coarse,
-        coarse_bordered,
-        factor,
-    };
+    let mut local = Local::new(maps, cx.levels.factor as usize);
     // Wider than any outline the n fits can reach from seeds this close to the rod.
     let reach = 1.5 * length + 2.0 * width + 4.0;
     let mut touched = vec![false; found.len()];
