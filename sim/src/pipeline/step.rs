@@ -352,7 +352,6 @@ impl World {
                         }
                         let (first, second) = (this.placed(i), this.placed(j));
                         let would_be = |f: Features| feature_overlap(&first, &second, f);
-                        let cutoff = first.radius + second.radius;
                         let reach = this.reach[i] + this.reach[j];
                         let g = &this.grains;
                         let centres = (g.position[i] - g.position[j]).norm_squared();
@@ -368,6 +367,7 @@ impl World {
                         let kinematics = (this.kinematics(i), this.kinematics(j));
                         resolve(contact, &found, kinematics, this, would_be);
                         if found.is_empty() {
+                            let cutoff = first.radius + second.radius;
                             let gap = core_core_separation(&first, &second) - cutoff;
                             contact.apart_until = apart_until(travelled, gap);
                         }
