@@ -9,7 +9,7 @@
 //! SETTLED.bin; later runs load it, so every build steps the same world from the same state.
 
 use anyhow::Context;
-use facets::bench::engine::{DepositSpec, grid_scene, settle};
+use facets::bench::engine::{BOX_WIDTH, DepositSpec, grid_scene, settle};
 use facets::grains::GrainKind;
 use sim::World;
 
@@ -37,6 +37,7 @@ fn main() -> anyhow::Result<()> {
             kind,
             grains,
             seed: 1,
+            width: BOX_WIDTH,
         };
         let mut world = grid_scene(&spec, 2e-5)?;
         settle(&mut world, 1.0, |_| {})?;

@@ -3,10 +3,11 @@
 # `steps` steps at dt = 1e-6 s on 1 and 2 MPI processes. Prints a table and writes
 # benches/peers/lammps-results.csv.
 #
-# Usage: benches/peers/run-lammps.sh [CASE:N[:STEPS] ...]
-#   default: squares:3000 squares:30000:1000 (rods:5000 crashes LAMMPS 2021 while settling:
-#   README, "Differences" 10)
-#   N > 10 000: 10 settled deposits of N/10 grains stacked (see README).
+# Usage: benches/peers/run-lammps.sh [CASE:N[:STEPS[:LAYOUT]] ...]
+#   default: squares:3000 squares:30000:1000:side squares:30000:1000:stacked (rods:5000 crashes
+#   LAMMPS 2021 while settling: README, "Differences" 10)
+#   N > 10 000: 10 settled deposits of N/10 grains, LAYOUT `side` by side in a box 10 times as
+#   wide or `stacked` in the same box (the default; see README).
 # Environment: STEPS (timed steps, default 20000), NPS (process counts, default "1 2";
 #   0 builds the settled deposits only),
 #   WORK (scratch dir for data, restarts and logs, default benches/peers/lammps/work).
@@ -17,7 +18,7 @@ work="${WORK:-$lmpdir/work}"
 steps="${STEPS:-20000}"
 nps="${NPS:-1 2}"
 cases=("$@")
-[ ${#cases[@]} -eq 0 ] && cases=(squares:3000 squares:30000:1000)
+[ ${#cases[@]} -eq 0 ] && cases=(squares:3000 squares:30000:1000:side squares:30000:1000:stacked)
 mkdir -p "$work"
 
 command -v lmp >/dev/null || { echo "lmp not found: run benches/peers/install-lammps.sh" >&2; exit 1; }
@@ -50,18 +51,27 @@ settle_grid() { # name n base
 }
 
 csv_rows=()
-printf '%-8s %7s %5s %7s %10s %14s %8s\n' case N procs steps wall_s grain_steps_s cpu_use%
+printf '%-15s %7s %5s %7s %10s %14s %8s\n' case N procs steps wall_s grain_steps_s cpu_use%
 for spec in "${cases[@]}"; do
-  IFS=: read -r name n case_steps <<<"$spec"
+  IFS=: read -r name n case_steps layout <<<"$spec"
   case_steps="${case_steps:-$steps}"
+  label="$name"
   base="$work/${name}_$n"
+  xcopies=1
   if [ "$n" -gt 10000 ]; then
-    # 10 copies of the settled deposit of N/10 grains stacked with 5 mm gaps, timed as they
-    # are (README, "Differences" 8)
+    # 10 copies of the settled deposit of N/10 grains, timed as they are (README,
+    # "Differences" 8): side by side (same depth and load) or stacked with 5 mm gaps.
+    layout="${layout:-stacked}"
     sub=$((n / 10)); subbase="$work/${name}_$sub"
     [ -s "$subbase.restart" ] || settle_grid "$name" "$sub" "$subbase"
+    base="$work/${name}_${n}_$layout"
+    label="$name-$layout"
     cp "$subbase.params" "$base.params"
-    start="include $lmpdir/stack_start.lmp"
+    case "$layout" in
+      side) start="include $lmpdir/side_start.lmp"; xcopies=10 ;;
+      stacked) start="include $lmpdir/stack_start.lmp" ;;
+      *) echo "case $spec: layout \`$layout\`: expected side or stacked" >&2; exit 1 ;;
+    esac
     source="$subbase.restart"
   else
     [ -s "$base.restart" ] || settle_grid "$name" "$n" "$base"
@@ -73,7 +83,7 @@ for spec in "${cases[@]}"; do
     log="$base.bench.np$np.log"
     if [ "$np" = 1 ]; then run=(lmp); else run=("${mpirun_cmd[@]}" "$np" lmp); fi
     "${run[@]}" -in "$lmpdir/in.bench" -log "$log" -screen none \
-      -var common "$lmpdir/common.lmp" -var start "$start" -var source "$source" -var copies 10 \
+      -var common "$lmpdir/common.lmp" -var start "$start" -var source "$source" -var copies 10 -var xcopies "$xcopies" \
       -var params "$base.params" -var mu_lmp 0.0 -var lmpdir "$lmpdir" \
       -var dt_bench 1e-6 -var steps "$case_steps"
     # "Loop time of T on P procs for S steps with M atoms" of the timed run
@@ -81,8 +91,8 @@ for spec in "${cases[@]}"; do
     # "X% CPU use with P MPI tasks": the share of a core each task got (the machine is shared)
     cpu=$(awk '/% CPU use with/ {sub("%", "", $1); print $1}' "$log" | tail -1)
     rate=$(awk -v a="$atoms" -v s="$nsteps" -v w="$wall" 'BEGIN {printf "%.4g", a*s/w}')
-    printf '%-8s %7s %5s %7s %10.3f %14s %8s\n' "$name" "$atoms" "$procs" "$nsteps" "$wall" "$rate" "$cpu"
-    csv_rows+=("$name,$atoms,$procs,mpi,$nsteps,1e-6,$wall,$rate,$cpu")
+    printf '%-15s %7s %5s %7s %10.3f %14s %8s\n' "$label" "$atoms" "$procs" "$nsteps" "$wall" "$rate" "$cpu"
+    csv_rows+=("$label,$atoms,$procs,mpi,$nsteps,1e-6,$wall,$rate,$cpu")
   done
 done
 

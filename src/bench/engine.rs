@@ -1,7 +1,7 @@
 //! Engine throughput on settled dense deposits (issue: DEM core, "Speed").
 //!
 //! The scene is defined so that a peer code can build the same one (benches/peers/): a box of
-//! width W = 256 mm with a floor and two side walls; grains on a square grid of pitch
+//! width W = 256 mm (or a multiple of it) with a floor and two side walls; grains on a square grid of pitch
 //! 1.1 x sqrt(L^2 + D^2), n_c = floor(W / pitch) columns, centres at x = pitch/2 + k pitch and
 //! rows from y = pitch/2 up, filled row by row, random orientation in [0, 2 pi), at rest;
 //! settled under gravity with a coarse step, then timed at the paper's 1e-6 s.
@@ -11,7 +11,7 @@ use std::time::Instant;
 use anyhow::Context;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use sim::{ContactLaw, GrainState, Vec2, Wall, World, WorldSettings};
+use sim::{ContactLaw, GrainState, ShapeId, Vec2, Wall, World, WorldSettings};
 
 use crate::grains::{DEFAULT_ROUNDING, GrainKind};
 
@@ -24,10 +24,14 @@ pub struct DepositSpec {
     pub kind: GrainKind,
     pub grains: usize,
     pub seed: u64,
+    /// Width of the box (m): [`BOX_WIDTH`], or a multiple of it for a wider deposit of the
+    /// same depth.
+    pub width: f64,
 }
 
-/// Builds the grid of grains in the box, at rest, with the paper's contact law.
-pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
+/// An empty box of `width` (m): floor at y = 0, side walls at x = 0 and x = `width`, with the
+/// paper's contact law and the grain kind's outline registered as shape 0.
+fn empty_box(kind: GrainKind, width: f64, time_step: f64) -> anyhow::Result<(World, ShapeId)> {
     let mut world = World::new(WorldSettings {
         law: ContactLaw::default(),
         gravity: Vec2::new(0.0, -10.0),
@@ -36,11 +40,17 @@ pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
     })?;
     world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
     world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
-    world.add_wall(Wall::new(Vec2::new(BOX_WIDTH, 0.0), Vec2::new(-1.0, 0.0)))?;
-    let kind = spec.kind;
+    world.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))?;
     let shape = world.add_shape(kind.outline(DEFAULT_ROUNDING)?, kind.areal_density())?;
+    Ok((world, shape))
+}
+
+/// Builds the grid of grains in the box, at rest, with the paper's contact law.
+pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
+    let kind = spec.kind;
+    let (mut world, shape) = empty_box(kind, spec.width, time_step)?;
     let pitch = 1.1 * kind.length().hypot(kind.width());
-    let columns = (BOX_WIDTH / pitch).floor() as usize;
+    let columns = (spec.width / pitch).floor() as usize;
     let mut rng = ChaCha8Rng::seed_from_u64(spec.seed);
     for k in 0..spec.grains {
         let (row, col) = (k / columns, k % columns);
@@ -53,8 +63,8 @@ pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
 
 /// Lets the grid fall and settle until the kinetic energy is below `1e-4` of the elastic
 /// energy (SPEC §2's relaxation criterion), checked every 1000 steps, or until `max_time`
-/// (s): a throughput benchmark needs a dense deposit near rest, and some deposits keep a
-/// small rattle. `progress` gets the simulated time. Returns kinetic / elastic at the end.
+/// (s): a throughput benchmark needs a dense deposit near rest. `progress` gets the simulated
+/// time. Returns kinetic / elastic at the end.
 pub fn settle(
     world: &mut World,
     max_time: f64,
@@ -74,12 +84,36 @@ pub fn settle(
             .run(1000)
             .context("while settling the benchmark deposit")?;
         progress(world.time());
-        let e = world.energies();
-        let ratio = e.kinetic / e.elastic;
+        let ratio = kinetic_over_elastic(world);
         if (world.time() > fall_time && ratio < 1e-4) || world.time() > end {
             return Ok(ratio);
         }
     }
+}
+
+/// Duration (s) and rate (1/s) of [`quench`]: the LAMMPS peer's (benches/peers/).
+pub const QUENCH: (f64, f64) = (0.05, 100.0);
+
+/// Brings a deposit that [`settle`] left moving to rest: its touching grains lose their
+/// velocity at [`QUENCH`]'s rate for its duration. Some deposits keep flowing for seconds
+/// (30 000 squares in a 2.56 m box: still at kinetic / elastic 4e-2 after 1.5 s, in slow
+/// avalanches), and a throughput measured on a flowing deposit is not one on a settled one.
+/// Returns kinetic / elastic at the end.
+pub fn quench(world: &mut World) -> anyhow::Result<f64> {
+    let (duration, rate) = QUENCH;
+    world.set_drag(rate)?;
+    let steps = (duration / world.time_step()).ceil() as u64;
+    world
+        .run(steps)
+        .context("while quenching the benchmark deposit")?;
+    world.set_drag(0.0)?;
+    Ok(kinetic_over_elastic(world))
+}
+
+/// The relaxation measure of SPEC §2.
+pub fn kinetic_over_elastic(world: &World) -> f64 {
+    let e = world.energies();
+    e.kinetic / e.elastic
 }
 
 /// `copies` copies of a settled deposit stacked with `gap` between them (the 30 000-grain
