@@ -74,7 +74,7 @@ const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Optio
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 16] = [
+pub const SETTINGS: [Setting; 18] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
@@ -113,6 +113,8 @@ pub const SETTINGS: [Setting; 16] = [
         ..PLAIN
     },
     stepped("n12", "dt = t_c / 12, sleep off", 12.0, false),
+    stepped("n8", "dt = t_c / 8, sleep off", 8.0, false),
+    stepped("n6", "dt = t_c / 6, sleep off", 6.0, false),
     stepped(
         "n12-sleep",
         "dt = t_c / 12, resting grains sleep",
