@@ -245,6 +245,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         };
         chains::repair(&mut found, &mut maps, &cx);
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
+        // The seeds that failed to the end mark the dark area no rod could explain.
+        chains::repair_crowded(
+            &mut found,
+            &mut maps,
+            &cx,
+            &failed,
+            &residual_offsets,
+            residual_step,
+        );
     }
     found
 }
