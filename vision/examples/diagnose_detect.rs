@@ -2,7 +2,8 @@
 //! frame), detects, and classifies every miss, false detection and large angle error.
 //!
 //! `cargo run --release -p vision --example diagnose_detect -- rod3 disordered 10 lab 100 60 /tmp/diag`
-//! (shape, packing, px/mm, style, frame width and height in mm, output folder for crops).
+//! (shape, packing, px/mm, style, frame width and height in mm, output folder for crops,
+//! packing seed, render seed).
 
 use std::time::Instant;
 
@@ -29,6 +30,9 @@ fn main() {
     let height_mm: f64 = arg(6, "60").parse().expect("height");
     let out = std::path::PathBuf::from(arg(7, "/tmp/diag"));
     let seed: u64 = arg(8, "1").parse().expect("seed");
+    // The benchmark packs with its seed plus the packing's index (ordered 0, disordered 1)
+    // and renders with its seed: `rod3 disordered 10 lab 258 120 /tmp/diag 2 1` is its photograph.
+    let render_seed: u64 = arg(9, &seed.to_string()).parse().expect("render seed");
     std::fs::create_dir_all(&out).expect("output folder");
     let shape = shapes()
         .into_iter()
@@ -41,7 +45,7 @@ fn main() {
         scale: px_per_mm * 1e3,
     };
     let packed = generate(shape, packing, &frame, seed);
-    let photo = render(&packed.grains, &frame, &style, seed).to_image(16);
+    let photo = render(&packed.grains, &frame, &style, render_seed).to_image(16);
     let params = DetectParams::new(shape, frame.scale);
     let start = Instant::now();
     let found = detect(&photo, &params).expect("detect");

@@ -602,25 +602,35 @@ pub fn repair_crowded(
             );
             let mut fitted = Vec::with_capacity(2);
             let mut new_total = 0.0;
-            for k in 0..2 {
+            let passes = |ft: &fit::Fitted, b: Window| {
+                f64::from(ft.score.agreement) >= cx.min_confidence
+                    && f64::from(ft.score.visible) >= cx.min_visible
+                    && window.holds(b)
+            };
+            // The rod at the seed, then the rod taken off: refined from its pose, or when
+            // that fails (a rod fitted across two may need turning), fitted afresh there.
+            for k in 0..3 {
+                if k == 2 && fitted.len() != 1 {
+                    break;
+                }
                 let ft = {
                     let levels = Levels {
                         fine_free: &local.maps.free_bordered,
                         coarse_free: &local.coarse_bordered,
                         ..cx.levels
                     };
-                    if k == 0 {
-                        fit::fit(&levels, seed, offsets, step, None)
-                    } else {
-                        fit::refine(&levels, old, 0.5 * cx.levels.factor)
+                    match k {
+                        0 => fit::fit(&levels, seed, offsets, step, None),
+                        1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
+                        _ => fit::fit(&levels, (old.x, old.y), offsets, step, None),
                     }
                 };
                 let b = local.box_of(ft.pose, cx.model);
-                if f64::from(ft.score.agreement) < cx.min_confidence
-                    || f64::from(ft.score.visible) < cx.min_visible
-                    || !window.holds(b)
-                {
-                    break;
+                if !passes(&ft, b) {
+                    if k == 0 {
+                        break;
+                    }
+                    continue;
                 }
                 new_total += f64::from(ft.score.total);
                 local.paint(ft.pose, b, cx);
