@@ -88,11 +88,12 @@ fn a_rod_crowded_by_its_neighbour() {
 /// second rod's remainder beside it unexplained (disordered packing, seed 1, at (136.5, 68.5)
 /// mm): the crowded-rod repair takes the turned rod off, fits the missed one at its failed
 /// seed, then fits the rod taken off afresh at all angles, since refining it from its turned
-/// pose fails.
+/// pose fails (without that fresh fit: 22 of 23 whole rods found in this 25 mm crop, 18.6
+/// degrees of orientation RMS).
 #[test]
 fn a_rod_across_two_is_turned_by_the_crowded_repair() {
-    let tally = bench_crop(Packing::Disordered, 1, 0.1355, 0.070, 0.020);
-    assert!(tally.truth_uncut >= 10, "{tally:?}");
+    let tally = bench_crop(Packing::Disordered, 1, 0.1355, 0.070, 0.025);
+    assert!(tally.truth_uncut >= 20, "{tally:?}");
     assert_eq!(tally.recall(), 1.0, "{tally:?}");
     assert_eq!(tally.precision(), 1.0, "{tally:?}");
     assert!(tally.orientation_rms_deg() < 5.0, "{tally:?}");
