@@ -6,9 +6,12 @@
 //! junctions leave no cue, and the rods may be fitted shifted by part of a length, leaving a
 //! stub shorter than a rod at each end of the row (rod3, ordered, lab, 10 px/mm: most of the
 //! missed rods). Such a row is refitted shifted onto one stub, with one rod more in the room
-//! left at the other end. Short rods lying face to face may be fitted by one rod turned by a
-//! right angle across them (rod53: most of the orientation error): refitted as the rods they
-//! are. Each repair is kept only when it explains the photograph better (total score).
+//! left at the other end. A rod fitted shifted onto part of its neighbour (or across two,
+//! turned) leaves a remainder too small for a rod, whose seed fails: the rod is refitted
+//! together with a rod at that seed. Short rods lying face to face may be fitted by one rod
+//! turned by a right angle across them (rod53: most of the orientation error): refitted as the
+//! rods they are. Each repair is kept only when it explains the photograph better (total
+//! score).
 
 use super::accept::Found;
 use super::fit::{self, Levels};
