@@ -244,6 +244,17 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             width,
         };
         chains::repair(&mut found, &mut maps, &cx);
+        // The seeds that failed to the end mark the dark area no rod could explain. Before
+        // the turned-rod repair, whose cases it mostly covers too: lab rod53 at 10 px/mm
+        // 2.48 degrees instead of 2.99 after it.
+        chains::repair_crowded(
+            &mut found,
+            &mut maps,
+            &cx,
+            &failed,
+            &residual_offsets,
+            residual_step,
+        );
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
     }
     found
