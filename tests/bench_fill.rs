@@ -4,7 +4,7 @@
 use facets::analysis::stats::MeanErr;
 use facets::bench::fill::{
     self, BenchConfig, MeasureInput, Measures, PressureMeasure, REFERENCE, ReferenceScene, Setting,
-    WITHIN, deviations, l1, rms, scalar,
+    WITHIN, deviations, l1, pooled, rms, scalar, signed_scalar,
 };
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -93,6 +93,12 @@ fn the_forms_weigh_bins_as_documented() {
     assert!(d.pressure.is_nan() && d.largest().is_nan() && !d.within());
     // A difference with no spread to measure it by is infinitely far.
     assert_eq!(scalar(me(1.0, 0.0), me(0.0, 0.0)), f64::INFINITY);
+    // The signed form keeps the direction; pooling adds shifts of one sign and cancels others.
+    assert!((signed_scalar(me(0.77, 0.03), me(0.80, 0.04)) + 0.6).abs() < 1e-12);
+    assert!((pooled(&[-1.31, -0.93, -1.34]) + 3.58 / 3f64.sqrt()).abs() < 1e-12);
+    assert!(pooled(&[-1.31, -0.93, -1.34]).abs() > WITHIN);
+    assert_eq!(pooled(&[1.5, -1.5]), 0.0);
+    assert!(pooled(&[]).is_nan());
 }
 
 /// Two ensembles of 8 realisations from one distribution, many times: the deviations are of
@@ -249,6 +255,26 @@ fn a_tiny_bench_writes_every_output() {
     } else {
         assert_eq!(fastest, None);
     }
+    // Three scenes where the setting stays within 2 SE alone but its packing fraction is low
+    // in each by 1.3 standard errors: pooled, -2.25, and no candidate for the defaults.
+    let mut shifted = report.clone();
+    shifted.rows.clear();
+    for scene in ["a", "b", "c"] {
+        let (mut reference, mut setting) = (report.rows[0].clone(), report.rows[1].clone());
+        reference.scene = scene.into();
+        setting.scene = scene.into();
+        let (r, s) = (reference.measures.phi_f, &mut setting.measures.phi_f);
+        s.mean = r.mean - 1.3 * r.stderr.hypot(s.stderr);
+        setting.deviations = Some(fill::Deviations {
+            phi_f: 1.3,
+            orientation: 0.5,
+            rdf: 0.5,
+            pressure: 0.5,
+        });
+        shifted.rows.extend([reference, setting]);
+    }
+    assert!((fill::pooled_phi_shift(&shifted, "n25") + 3.9 / 3f64.sqrt()).abs() < 1e-9);
+    assert_eq!(fill::fastest_within(&shifted), None);
     // The CSV: a header and one row per scene x setting, numbers that parse and are finite.
     let csv = std::fs::read_to_string(out.path().join("fill.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();

@@ -57,6 +57,22 @@ pub fn scalar(s: MeanErr, reference: MeanErr) -> f64 {
     )
 }
 
+/// (mean_s - mean_ref) / sqrt(se_s^2 + se_ref^2): [`scalar`] with its sign.
+pub fn signed_scalar(s: MeanErr, reference: MeanErr) -> f64 {
+    let d = s.mean - reference.mean;
+    ratio(d.abs(), s.stderr.hypot(reference.stderr)).copysign(d)
+}
+
+/// Independent signed deviations pooled into one (Stouffer): sum z_i / sqrt(n), of order one
+/// under the null like each z_i; NaN for none. Shifts of one sign in every scene add up here
+/// while each alone stays within 2.
+pub fn pooled(z: &[f64]) -> f64 {
+    if z.is_empty() {
+        return f64::NAN;
+    }
+    z.iter().sum::<f64>() / (z.len() as f64).sqrt()
+}
+
 /// sum_k |y_s - y_ref| / sum_k sqrt(se_s^2 + se_ref^2); NaN when the series differ in length
 /// or are empty.
 pub fn l1(s: &[f64], s_err: &[f64], reference: &[f64], reference_err: &[f64]) -> f64 {

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::deviation::WITHIN;
-use super::{BenchReport, Row, fastest_within};
+use super::{BenchReport, REFERENCE, Row, fastest_within, pooled_phi_shift};
 use crate::io::write_atomic;
 use crate::plot::{SpeedErrorPoint, write_speed_error};
 
@@ -99,14 +99,29 @@ pub fn write_markdown(path: &Path, report: &BenchReport) -> anyhow::Result<()> {
                 row.runs
             )?;
         }
+        let mut names: Vec<&str> = Vec::new();
+        for row in &report.rows {
+            if row.setting != REFERENCE && !names.contains(&row.setting.as_str()) {
+                names.push(&row.setting);
+            }
+        }
+        let shifts: Vec<String> = names
+            .iter()
+            .map(|name| format!("{name} {:+.2}", pooled_phi_shift(report, name)))
+            .collect();
+        writeln!(
+            w,
+            "\nPacking fraction shift pooled over the scenes (signed, in standard errors): {}.",
+            shifts.join(", ")
+        )?;
         match fastest_within(report) {
             Some((name, speed_up)) => writeln!(
                 w,
-                "\nFastest setting within {WITHIN} standard errors on every scene: {name} (speed-up at least {speed_up:.1})."
+                "\nFastest setting within {WITHIN} standard errors on every scene and pooled: {name} (speed-up at least {speed_up:.1})."
             )?,
             None => writeln!(
                 w,
-                "\nNo setting stays within {WITHIN} standard errors on every scene."
+                "\nNo setting stays within {WITHIN} standard errors on every scene and pooled."
             )?,
         }
         Ok(())
