@@ -96,3 +96,16 @@ fn a_damaged_saved_deposit_is_refused_naming_the_file() {
     let name = file.file_name().unwrap().to_string_lossy();
     assert!(stderr.contains(&*name), "{stderr}");
 }
+
+#[test]
+fn bare_scaling_is_accepted_and_a_bad_case_is_named() {
+    // Bare `--scaling` means both layouts; clap must accept its default before the cases are
+    // read, which fail here without settling anything.
+    let out = Command::new(env!("CARGO_BIN_EXE_facets"))
+        .args(["bench", "engine", "--scaling", "--cases", "pebble:10"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("case `pebble:10`"), "{stderr}");
+}

@@ -20,13 +20,13 @@ pub struct Args {
     /// Cases as KIND:COUNT, comma-separated (kinds: square, rod53, rod3).
     #[arg(long, value_delimiter = ',', default_values = ["square:3000", "rod3:5000"])]
     cases: Vec<String>,
-    /// Also run 30 000 squares, to compare the per-grain cost with the 3 000 case: ten copies
-    /// of the settled 3 000-square deposit, `side` by side in a box ten times as wide (same
-    /// depth, load and contacts per grain: the engine's scaling) or `stacked` on each other in
-    /// the same box (ten times the load at the bottom: more contacts per grain), settled again
-    /// (side: to kinetic / elastic < 1e-4 or 1.5 s, like the 3 000; stacked: at most 0.3 s). Bare `--scaling` runs both.
+    /// Also run 30 000 squares, to compare the per-grain cost with the 3 000 case: `wide`,
+    /// the 3 000 case's rule in a box ten times as wide (2 560 mm: the same depth, load and
+    /// contacts per grain, so it measures the engine's cost against N), or `stacked`, ten
+    /// copies of the settled 3 000 on each other in the 256 mm box, settled again for 0.3 s
+    /// (ten times the load at the bottom: more contacts per grain). Bare `--scaling` runs both.
     #[arg(long, value_enum, value_delimiter = ',', num_args = 0..=1,
-          default_missing_value = "side,stacked")]
+          default_missing_value = "wide,stacked")]
     scaling: Vec<Layout>,
     /// Folder where each settled deposit is saved, and read back by later runs with the same
     /// case, seed and settling step instead of settling again (the 30 000-grain deposits take
