@@ -1,10 +1,11 @@
 //! Engine throughput on settled dense deposits (issue: DEM core, "Speed").
 //!
 //! The scene is defined so that a peer code can build the same one (benches/peers/): a box of
-//! width W = 256 mm (or a multiple of it) with a floor and two side walls; grains on a square grid of pitch
-//! 1.1 x sqrt(L^2 + D^2), n_c = floor(W / pitch) columns, centres at x = pitch/2 + k pitch and
-//! rows from y = pitch/2 up, filled row by row, random orientation in [0, 2 pi), at rest;
-//! settled under gravity with a coarse step, then timed at the paper's 1e-6 s.
+//! width W = 256 mm (or a multiple of it) with a floor and two side walls; grains on a square
+//! grid of pitch 1.1 x sqrt(L^2 + D^2), n_c = floor(W / pitch) columns, centres at
+//! x = pitch/2 + k pitch and rows from y = pitch/2 up, filled row by row, random orientation
+//! in [0, 2 pi), at rest; settled under gravity with a coarse step (and quenched if still
+//! moving), then timed at the paper's 1e-6 s.
 
 use std::time::Instant;
 
