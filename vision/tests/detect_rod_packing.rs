@@ -6,15 +6,20 @@ use vision::evaluate::bench::{shapes, truth_in_frame};
 use vision::evaluate::{Tally, score};
 use vision::packing::{PackedFrame, Packing, generate};
 use vision::render::{Style, render};
-use vision::{DetectParams, Frame, GrainOutline, detect};
+use vision::{DetectParams, Frame, GrainOutline, GrainShape, detect};
 
-#[test]
-fn short_rods_in_a_disordered_packing() {
-    let shape = shapes()
+/// The benchmark's short rod (L/D = 5/3).
+fn rod53() -> GrainShape {
+    shapes()
         .into_iter()
         .find(|(n, _)| *n == "rod53")
         .expect("rod53 is a benchmark shape")
-        .1;
+        .1
+}
+
+#[test]
+fn short_rods_in_a_disordered_packing() {
+    let shape = rod53();
     let frame = Frame {
         width: 0.045,
         height: 0.035,
@@ -38,11 +43,7 @@ fn short_rods_in_a_disordered_packing() {
 /// (`x`, `y`) (metres): the grains centred in it, moved with it; rendered in the lab style at
 /// 10 px/mm (render seed 1), detected and scored.
 fn bench_crop(packing: Packing, seed: u64, x: f64, y: f64, side: f64) -> Tally {
-    let shape = shapes()
-        .into_iter()
-        .find(|(n, _)| *n == "rod53")
-        .expect("rod53 is a benchmark shape")
-        .1;
+    let shape = rod53();
     let bench = Frame {
         width: 0.258,
         height: 0.120,

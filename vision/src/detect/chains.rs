@@ -75,6 +75,25 @@ pub struct Context<'a> {
     pub width: f64,
 }
 
+impl Context<'_> {
+    /// Whether a fit passes the acceptance with its box `b` inside the trial's `window` (the
+    /// only pixels a trial may change).
+    fn passes(&self, ft: &fit::Fitted, b: Window, window: Window) -> bool {
+        f64::from(ft.score.agreement) >= self.min_confidence
+            && f64::from(ft.score.visible) >= self.min_visible
+            && window.holds(b)
+    }
+
+    /// The grain a kept fit becomes.
+    fn found(&self, ft: &fit::Fitted) -> Found {
+        Found {
+            pose: ft.pose,
+            corners: self.model.corners(ft.pose),
+            confidence: f64::from(ft.score.agreement),
+        }
+    }
+}
+
 /// The maps with the grains `found` painted, except those in `skip`.
 #[cfg(test)]
 fn painted(found: &[Found], skip: &[usize], cx: &Context) -> Maps {
@@ -196,17 +215,8 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
             let mut fitted = Vec::with_capacity(aligned.len() + 1);
             let mut good = true;
             for start in starts {
-                let ft = {
-                    let levels = Levels {
-                        fine_free: &local.maps.free_bordered,
-                        ..cx.levels
-                    };
-                    fit::refine(&levels, start, 0.5 * cx.levels.factor)
-                };
-                if f64::from(ft.score.agreement) < cx.min_confidence
-                    || f64::from(ft.score.visible) < cx.min_visible
-                    || !window.holds(local.box_of(ft.pose, cx.model))
-                {
+                let ft = fit::refine(&local.levels(cx), start, 0.5 * cx.levels.factor);
+                if !cx.passes(&ft, local.box_of(ft.pose, cx.model), window) {
                     good = false;
                     break;
                 }
@@ -219,11 +229,7 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
                 continue;
             }
             for (k, ft) in row.iter().chain(std::iter::once(&usize::MAX)).zip(&fitted) {
-                let g = Found {
-                    pose: ft.pose,
-                    corners: cx.model.corners(ft.pose),
-                    confidence: f64::from(ft.score.agreement),
-                };
+                let g = cx.found(ft);
                 if *k == usize::MAX {
                     found.push(g);
                     touched.push(true);
@@ -337,6 +343,15 @@ impl<'m> Local<'m> {
             coarse,
             coarse_bordered,
             factor,
+        }
+    }
+
+    /// The search levels reading the free darkness of the moment.
+    fn levels<'s>(&'s self, cx: &'s Context) -> Levels<'s> {
+        Levels {
+            fine_free: &self.maps.free_bordered,
+            coarse_free: &self.coarse_bordered,
+            ..cx.levels
         }
     }
 
@@ -494,19 +509,9 @@ pub fn repair_turned(
         for k in 0..n {
             let a = (k as f64 - 0.5 * (n as f64 - 1.0)) * width;
             let seed = (p.x + a * c, p.y - a * s);
-            let ft = {
-                let levels = Levels {
-                    fine_free: &local.maps.free_bordered,
-                    coarse_free: &local.coarse_bordered,
-                    ..cx.levels
-                };
-                fit::fit(&levels, seed, offsets, step, Some(turned))
-            };
+            let ft = fit::fit(&local.levels(cx), seed, offsets, step, Some(turned));
             let b = local.box_of(ft.pose, cx.model);
-            if f64::from(ft.score.agreement) < cx.min_confidence
-                || f64::from(ft.score.visible) < cx.min_visible
-                || !window.holds(b)
-            {
+            if !cx.passes(&ft, b, window) {
                 break;
             }
             new_total += f64::from(ft.score.total);
@@ -519,11 +524,7 @@ pub fn repair_turned(
             continue;
         }
         for (k, ft) in fitted.iter().enumerate() {
-            let r = Found {
-                pose: ft.pose,
-                corners: cx.model.corners(ft.pose),
-                confidence: f64::from(ft.score.agreement),
-            };
+            let r = cx.found(ft);
             if k == 0 {
                 found[g] = r;
                 touched[g] = true;
@@ -608,34 +609,23 @@ pub fn repair_crowded(
             );
             let mut fitted = Vec::with_capacity(2);
             let mut new_total = 0.0;
-            let passes = |ft: &fit::Fitted, b: Window| {
-                f64::from(ft.score.agreement) >= cx.min_confidence
-                    && f64::from(ft.score.visible) >= cx.min_visible
-                    && window.holds(b)
-            };
             // The rod at the seed, then the rod taken off: refined from its pose, or when
             // that fails (a rod fitted across two may need turning), fitted afresh there.
             for k in 0..3 {
                 if k == 2 && fitted.len() != 1 {
                     break;
                 }
-                let ft = {
-                    let levels = Levels {
-                        fine_free: &local.maps.free_bordered,
-                        coarse_free: &local.coarse_bordered,
-                        ..cx.levels
-                    };
-                    match k {
-                        0 => fit::fit(&levels, seed, offsets, step, None),
-                        1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
-                        _ => fit::fit(&levels, (old.x, old.y), offsets, step, None),
-                    }
+                let levels = local.levels(cx);
+                let ft = match k {
+                    0 => fit::fit(&levels, seed, offsets, step, None),
+                    1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
+                    _ => fit::fit(&levels, (old.x, old.y), offsets, step, None),
                 };
                 let b = local.box_of(ft.pose, cx.model);
                 // The rod added where the acceptance found none must agree clearly: at the
                 // acceptance's 0.5, rods added at the photograph's edge with agreements of
                 // 0.69 and 0.79 were false (lab, rod3 at 10 px/mm: two false detections more).
-                if !passes(&ft, b) || (k == 0 && ft.score.agreement < ADDED_AGREEMENT) {
+                if !cx.passes(&ft, b, window) || (k == 0 && ft.score.agreement < ADDED_AGREEMENT) {
                     if k == 0 {
                         break;
                     }
@@ -650,11 +640,7 @@ pub fn repair_crowded(
                 local.restore(window, &saved);
                 continue;
             }
-            let [added, moved] = [&fitted[0], &fitted[1]].map(|ft| Found {
-                pose: ft.pose,
-                corners: cx.model.corners(ft.pose),
-                confidence: f64::from(ft.score.agreement),
-            });
+            let [added, moved] = [&fitted[0], &fitted[1]].map(|ft| cx.found(ft));
             found[h] = moved;
             touched[h] = true;
             found.push(added);
