@@ -354,6 +354,17 @@ pub fn write_all(out: &Path, report: &BenchReport) -> anyhow::Result<Vec<PathBuf
     Ok(vec![csv, md, png, json])
 }
 
+/// The settings compared with the reference (rows with deviations), in the order first met.
+pub fn compared_settings(report: &BenchReport) -> Vec<&str> {
+    let mut names: Vec<&str> = Vec::new();
+    for row in &report.rows {
+        if row.deviations.is_some() && !names.contains(&row.setting.as_str()) {
+            names.push(&row.setting);
+        }
+    }
+    names
+}
+
 /// The packing fraction's signed deviations of `setting` from the reference, pooled over the
 /// scenes that have both ([`pooled`]); NaN when none has.
 pub fn pooled_phi_shift(report: &BenchReport, setting: &str) -> f64 {
@@ -376,13 +387,7 @@ pub fn pooled_phi_shift(report: &BenchReport, setting: &str) -> f64 {
 /// pooled over the scenes within 2, with the largest speed-up on its slowest scene, and that
 /// speed-up; None when no setting passes. This is the candidate for the defaults (issue 3).
 pub fn fastest_within(report: &BenchReport) -> Option<(String, f64)> {
-    let mut names: Vec<&str> = Vec::new();
-    for row in &report.rows {
-        if row.deviations.is_some() && !names.contains(&row.setting.as_str()) {
-            names.push(&row.setting);
-        }
-    }
-    names
+    compared_settings(report)
         .into_iter()
         .filter_map(|name| {
             let rows: Vec<&Row> = report.rows.iter().filter(|r| r.setting == name).collect();

@@ -5,7 +5,7 @@ use std::io::Write;
 use std::path::Path;
 
 use super::deviation::WITHIN;
-use super::{BenchReport, REFERENCE, Row, fastest_within, pooled_phi_shift};
+use super::{BenchReport, Row, compared_settings, fastest_within, pooled_phi_shift};
 use crate::io::write_atomic;
 use crate::plot::{SpeedErrorPoint, write_speed_error};
 
@@ -99,13 +99,7 @@ pub fn write_markdown(path: &Path, report: &BenchReport) -> anyhow::Result<()> {
                 row.runs
             )?;
         }
-        let mut names: Vec<&str> = Vec::new();
-        for row in &report.rows {
-            if row.setting != REFERENCE && !names.contains(&row.setting.as_str()) {
-                names.push(&row.setting);
-            }
-        }
-        let shifts: Vec<String> = names
+        let shifts: Vec<String> = compared_settings(report)
             .iter()
             .map(|name| format!("{name} {:+.2}", pooled_phi_shift(report, name)))
             .collect();
