@@ -166,6 +166,37 @@ fn same_seed_same_files() {
     );
 }
 
+/// The relaxation drag started late (`relaxation_drag_below`) does nothing before the deposit's
+/// kinetic energy has fallen below the threshold, and shortens the relaxation after.
+#[test]
+fn a_late_drag_waits_for_its_threshold_and_shortens_the_relaxation() {
+    let run = |drag: f64, below: f64| {
+        let mut scene = scene();
+        scene.grains.count = 40;
+        scene.model.relaxation_drag_per_s = drag;
+        scene.model.relaxation_drag_below = below;
+        let dir = tempfile::tempdir().unwrap();
+        let record = fill(&scene, 3, dir.path(), &mut |_| {}).unwrap();
+        let deposit = std::fs::read(dir.path().join("deposit.csv")).unwrap();
+        (record, deposit)
+    };
+    let (plain, plain_deposit) = run(0.0, f64::INFINITY);
+    assert!(plain.relaxed);
+    // A threshold the run never reaches (it stops at 1e-3): the drag never starts.
+    let (never, never_deposit) = run(200.0, 1e-12);
+    assert_eq!(never.steps, plain.steps);
+    assert_eq!(never_deposit, plain_deposit);
+    // Started at 1e-2, ten times above the stop, the drag ends the relaxation sooner.
+    let (late, _) = run(200.0, 1e-2);
+    assert!(late.relaxed);
+    assert!(
+        late.steps < plain.steps,
+        "late drag {} steps, none {}",
+        late.steps,
+        plain.steps
+    );
+}
+
 fn facets() -> Command {
     Command::new(env!("CARGO_BIN_EXE_facets"))
 }
@@ -203,6 +234,11 @@ fn refusals_come_before_any_simulating() {
         ("count = 100", "count = 0", "grains.count"),
         ("width_mm = 96", "width_mm = 6", "silo.width_mm"),
         ("phi0 = 0.1", "phi0 = 0.8", "largest feasible phi0"),
+        (
+            "max_relaxation_time_s = 2",
+            "max_relaxation_time_s = 2\n[model]\nrelaxation_drag_below = 0",
+            "model.relaxation_drag_below",
+        ),
     ] {
         let bad = write_scene(dir.path(), &SMALL.replace(from, to));
         let o = facets()

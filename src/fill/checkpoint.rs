@@ -131,7 +131,10 @@ impl Checkpoint {
             );
         }
         let body: BodyOwned = postcard::from_bytes(rest).with_context(|| {
-            format!("{}: the checkpoint is truncated or corrupt", path.display())
+            format!(
+                "{}: the checkpoint is truncated or corrupt, or was written by another build of facets {version} whose scene or world had other fields (the body's layout is not versioned between releases): rerun from the start",
+                path.display()
+            )
         })?;
         Ok(Self {
             header,

@@ -233,8 +233,10 @@ pub fn fill_with(
                     if scene.model.wake_to_relax && world.sleep_settings().is_some() {
                         silo.world.set_sleep(None)?;
                     }
-                    if silo.world.drag() != scene.model.relaxation_drag_per_s {
-                        silo.world.set_drag(scene.model.relaxation_drag_per_s)?;
+                    let drag = scene.model.relaxation_drag_per_s;
+                    let from_the_last_grain = scene.model.relaxation_drag_below == f64::INFINITY;
+                    if from_the_last_grain && silo.world.drag() != drag {
+                        silo.world.set_drag(drag)?;
                     }
                     let world = &silo.world;
                     let e = world.energies();
@@ -260,6 +262,12 @@ pub fn fill_with(
                     }
                     if world.time() - st.last_insertion > scene.run.max_relaxation_time_s {
                         break false;
+                    }
+                    // A late drag starts from the next step (a relaxed deposit has stopped above).
+                    if st.energy_ratio < scene.model.relaxation_drag_below
+                        && silo.world.drag() != drag
+                    {
+                        silo.world.set_drag(drag)?;
                     }
                 }
             }

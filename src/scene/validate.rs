@@ -193,6 +193,16 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
         m.relaxation_drag_per_s,
         "1/s",
     )?;
+    if m.relaxation_drag_below.is_nan() || m.relaxation_drag_below <= 0.0 {
+        return Err(invalid(
+            "model",
+            "relaxation_drag_below",
+            format!(
+                "is {}, expected a fraction of the elastic energy > 0, or inf for a drag from the last grain in",
+                m.relaxation_drag_below
+            ),
+        ));
+    }
     if let Some(dt) = r.time_step_s {
         positive("run", "time_step_s", dt, "s")?;
     }

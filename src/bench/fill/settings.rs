@@ -19,8 +19,10 @@ pub struct Setting {
     /// (mm) for `DRIFT_QUIET_TIME_S` falls asleep, whatever its speed and force, and wakes when
     /// its force changes by `DRIFT_WAKE_FRACTION` of its weight.
     pub sleep_drift_mm: Option<f64>,
-    /// Drag on touching grains once the last grain is in (1/s; 0: none).
+    /// Drag on touching grains once the last grain is in (1/s; 0: none) ...
     pub relaxation_drag_per_s: f64,
+    /// ... from when kinetic / elastic falls below this (inf: at once).
+    pub relaxation_drag_below: f64,
     pub insertion: Insertion,
 }
 
@@ -32,6 +34,9 @@ pub const DRIFT_WAKE_FRACTION: f64 = 5.0;
 /// Drag of the drag settings (1/s): a ringing mode loses its energy as exp(-200 t), so
 /// kinetic / elastic falls by 1e4 in about 50 ms.
 pub const RELAXATION_DRAG_PER_S: f64 = 200.0;
+/// Where the late-drag settings start it (kinetic / elastic): the last grains have landed
+/// and the pile only creeps, ten times above the relaxation threshold.
+pub const LATE_DRAG_BELOW: f64 = 1e-3;
 
 /// The setting every other is measured against.
 pub const REFERENCE: &str = "faithful";
@@ -47,6 +52,7 @@ const PLAIN: Setting = Setting {
     sleep_speed_m_s: None,
     sleep_drift_mm: None,
     relaxation_drag_per_s: 0.0,
+    relaxation_drag_below: f64::INFINITY,
     insertion: Insertion::Surface,
 };
 
@@ -74,7 +80,7 @@ const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Optio
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 18] = [
+pub const SETTINGS: [Setting; 21] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
@@ -113,6 +119,7 @@ pub const SETTINGS: [Setting; 18] = [
         ..PLAIN
     },
     stepped("n12", "dt = t_c / 12, sleep off", 12.0, false),
+    stepped("n10", "dt = t_c / 10, sleep off", 10.0, false),
     stepped("n8", "dt = t_c / 8, sleep off", 8.0, false),
     stepped("n6", "dt = t_c / 6, sleep off", 6.0, false),
     stepped(
@@ -141,6 +148,22 @@ pub const SETTINGS: [Setting; 18] = [
         12.0,
         None,
     ),
+    Setting {
+        name: "n12-latedrag",
+        what: "dt = t_c / 12, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
+        steps_per_collision: 12.0,
+        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
+        relaxation_drag_below: LATE_DRAG_BELOW,
+        ..PLAIN
+    },
+    Setting {
+        name: "n10-latedrag",
+        what: "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
+        steps_per_collision: 10.0,
+        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
+        relaxation_drag_below: LATE_DRAG_BELOW,
+        ..PLAIN
+    },
     dragged(
         "n25-drift-drag",
         "n25-drag, and grains staying within 0.05 mm for 20 ms sleep (wake at 5 weights)",
@@ -172,6 +195,7 @@ impl Setting {
             sleep: self.sleep,
             sleep_speed_m_s: self.sleep_speed_m_s.unwrap_or(defaults.sleep_speed_m_s),
             relaxation_drag_per_s: self.relaxation_drag_per_s,
+            relaxation_drag_below: self.relaxation_drag_below,
             ..defaults
         };
         if let Some(drift) = self.sleep_drift_mm {
