@@ -31,6 +31,18 @@ pub struct JanssenFit {
     pub h_over_w_max: f64,
 }
 
+/// The longest screening length the fit searches, in silo widths.
+pub const JANSSEN_LAMBDA_MAX_OVER_W: f64 = 100.0;
+
+impl JanssenFit {
+    /// The fit ran into its longest screening length: the profile is still straight over the
+    /// depth fitted (a deposit shallower than lambda), so lambda is only a lower bound and
+    /// P_sat only the slope times that length.
+    pub fn saturates(&self) -> bool {
+        self.lambda_over_w < 0.99 * JANSSEN_LAMBDA_MAX_OVER_W
+    }
+}
+
 /// Ensemble-mean profile; stresses in N/m, compressive negative.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct PressureProfile {
@@ -142,7 +154,8 @@ pub fn compute(
 }
 
 /// Least-squares fit of P(h) = P_sat (1 - exp(-h / lambda)): P_sat is linear given lambda, and
-/// lambda is found by golden-section search on log lambda between W/100 and 100 W after a coarse
+/// lambda is found by golden-section search on log lambda between W/100 and 100 W
+/// ([`JANSSEN_LAMBDA_MAX_OVER_W`]) after a coarse
 /// scan (the residual can have a shallow second minimum when P is nearly linear).
 pub fn janssen_fit(h: &[f64], p: &[f64], silo_width: f64) -> JanssenFit {
     let sse_at = |log_lambda: f64| -> (f64, f64) {
@@ -161,7 +174,10 @@ pub fn janssen_fit(h: &[f64], p: &[f64], silo_width: f64) -> JanssenFit {
             .sum();
         (sse, p_sat)
     };
-    let (lo, hi) = ((silo_width / 100.0).ln(), (silo_width * 100.0).ln());
+    let (lo, hi) = (
+        (silo_width / JANSSEN_LAMBDA_MAX_OVER_W).ln(),
+        (silo_width * JANSSEN_LAMBDA_MAX_OVER_W).ln(),
+    );
     let steps = 200;
     let best = (0..=steps)
         .map(|k| lo + (hi - lo) * k as f64 / steps as f64)
@@ -228,5 +244,18 @@ mod tests {
         assert!((fit.lambda_over_w - 0.7).abs() < 1e-6, "{fit:?}");
         assert!((fit.p_sat - p_sat).abs() < 1e-5 * p_sat, "{fit:?}");
         assert!(fit.rms_residual < 1e-6 * p_sat);
+        assert!(fit.saturates());
+    }
+
+    #[test]
+    fn a_hydrostatic_profile_is_not_saturated() {
+        // A deposit a fifth of a width deep under a straight overburden line: nothing in it
+        // sets a screening length, and the fit must say so rather than report its bound.
+        let width = 0.16;
+        let h: Vec<f64> = (0..40).map(|k| k as f64 * 0.0008).collect();
+        let p: Vec<f64> = h.iter().map(|h| 0.8 * 18.5 * 10.0 * h).collect();
+        let fit = janssen_fit(&h, &p, width);
+        assert!(!fit.saturates(), "{fit:?}");
+        assert!(fit.lambda_over_w > 0.99 * JANSSEN_LAMBDA_MAX_OVER_W, "{fit:?}");
     }
 }

@@ -211,9 +211,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             e.rdf.g_at_1.stderr,
             e.orientation.s4.mean,
             match j {
-                Some(j) => format!(
+                Some(j) if j.saturates() => format!(
                     ", Janssen lambda/W = {:.3}, P_sat = {:.4} N/m",
                     j.lambda_over_w, j.p_sat
+                ),
+                Some(_) => format!(
+                    ", Janssen: not saturated in this depth (lambda/W >= {})",
+                    facets::analysis::pressure::JANSSEN_LAMBDA_MAX_OVER_W
                 ),
                 None => String::new(),
             }

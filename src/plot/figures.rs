@@ -233,10 +233,17 @@ pub fn write_figures(out: &Path, summaries: &[&Summary]) -> anyhow::Result<Vec<P
             });
             if let Some(j) = &p.janssen {
                 series.push(Series {
-                    label: format!(
-                        "{src} Janssen lambda/W = {:.2}, P_sat = {:.4} N/m",
-                        j.lambda_over_w, j.p_sat
-                    ),
+                    label: if j.saturates() {
+                        format!(
+                            "{src} Janssen lambda/W = {:.2}, P_sat = {:.3} N/m",
+                            j.lambda_over_w, j.p_sat
+                        )
+                    } else {
+                        format!(
+                            "{src} Janssen: not saturated in this depth (lambda/W >= {})",
+                            crate::analysis::pressure::JANSSEN_LAMBDA_MAX_OVER_W
+                        )
+                    },
                     kind: Kind::Model,
                     colour: 5,
                     x: p.h_over_w.clone(),

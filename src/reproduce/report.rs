@@ -196,8 +196,8 @@ pub fn build(
     }
 }
 
-/// lambda / W at the upper end of the Janssen fit's search range (100 W).
-const JANSSEN_BOUND: f64 = 99.0;
+/// lambda / W at the upper end of the Janssen fit's search range.
+const JANSSEN_BOUND: f64 = 0.99 * crate::analysis::pressure::JANSSEN_LAMBDA_MAX_OVER_W;
 
 fn pm(m: &MeanErr, digits: usize) -> String {
     if m.mean.is_finite() {
