@@ -256,6 +256,9 @@ mod tests {
         let p: Vec<f64> = h.iter().map(|h| 0.8 * 18.5 * 10.0 * h).collect();
         let fit = janssen_fit(&h, &p, width);
         assert!(!fit.saturates(), "{fit:?}");
-        assert!(fit.lambda_over_w > 0.99 * JANSSEN_LAMBDA_MAX_OVER_W, "{fit:?}");
+        assert!(
+            fit.lambda_over_w > 0.99 * JANSSEN_LAMBDA_MAX_OVER_W,
+            "{fit:?}"
+        );
     }
 }
