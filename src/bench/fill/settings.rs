@@ -37,6 +37,9 @@ pub const RELAXATION_DRAG_PER_S: f64 = 200.0;
 /// Where the late-drag settings start it (kinetic / elastic): the last grains have landed
 /// and the pile only creeps, ten times above the relaxation threshold.
 pub const LATE_DRAG_BELOW: f64 = 1e-3;
+/// An earlier start, to see whether the relaxation (a fifth of a paper-scale rod fill's
+/// grain-steps) can be cut further without moving the deposit.
+pub const EARLY_DRAG_BELOW: f64 = 1e-2;
 
 /// The setting every other is measured against.
 pub const REFERENCE: &str = "faithful";
@@ -80,7 +83,7 @@ const fn dragged(name: &'static str, what: &'static str, n: f64, drift_mm: Optio
 }
 
 /// Every setting the bench knows, the reference first.
-pub const SETTINGS: [Setting; 21] = [
+pub const SETTINGS: [Setting; 22] = [
     Setting {
         name: REFERENCE,
         what: "paper-faithful: dt = 1e-6 s, every grain integrated every step",
@@ -162,6 +165,14 @@ pub const SETTINGS: [Setting; 21] = [
         steps_per_collision: 10.0,
         relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
         relaxation_drag_below: LATE_DRAG_BELOW,
+        ..PLAIN
+    },
+    Setting {
+        name: "n10-earlydrag",
+        what: "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-2 x elastic",
+        steps_per_collision: 10.0,
+        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
+        relaxation_drag_below: EARLY_DRAG_BELOW,
         ..PLAIN
     },
     dragged(
