@@ -90,6 +90,11 @@ impl Taps {
         }
     }
 
+    /// Farthest any tap lies from the placement's origin, whatever its angle (pixels).
+    pub fn reach(&self) -> f32 {
+        self.reach_u.hypot(self.reach_v)
+    }
+
     /// Whether every tap of a placement samples at least one pixel inside the plane's edge, so
     /// that its four bilinear neighbours exist.
     pub fn inside(&self, at: Placement, plane: &Bordered) -> bool {
