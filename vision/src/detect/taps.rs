@@ -375,7 +375,7 @@ impl Taps {
         );
         debug_assert!(self.inside(at, plane));
         #[cfg(target_arch = "x86_64")]
-        if has_avx512() {
+        if taps.len() >= WIDE_ENOUGH && has_avx512() {
             // SAFETY: AVX-512 F and DQ are present, the range is whole lanes of the columns,
             // and the caller keeps every bilinear neighbour in the plane (`inside`).
             unsafe { self.accumulate_inside_avx512(at, plane, floor, lanes, taps) };
@@ -526,7 +526,7 @@ impl Taps {
     /// outside the plane count for nothing, neighbours beyond the edge are clamped onto it.
     fn sum_near_edge(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
         #[cfg(target_arch = "x86_64")]
-        if has_avx512() {
+        if self.u.len() >= WIDE_ENOUGH && has_avx512() {
             // SAFETY: AVX-512 F and DQ are present.
             return unsafe { self.sum_near_edge_avx512(at, plane, floor) };
         }
@@ -870,6 +870,10 @@ impl PlacementX16 {
         (x, y, w)
     }
 }
+
+/// Fewest taps summed sixteen at a time: the coarse search's blocks hold one to three groups
+/// of eight, too few to repay the sixteen-tap paths.
+const WIDE_ENOUGH: usize = 4 * LANES;
 
 /// Whether the sixteen-tap paths can run (checked once; the answer is cached).
 #[cfg(target_arch = "x86_64")]
