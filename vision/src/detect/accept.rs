@@ -122,6 +122,9 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     let coarse_bordered = Bordered::new(&coarse);
     let mut free_bordered = dark_bordered.clone();
     let mut coarse_free = coarse_bordered.clone();
+    // Farther apart than this, a grain's paint (coverage within its ring) and another pose's
+    // taps (with their bilinear neighbours) share no pixel.
+    let unchanged_beyond = 2.0 * f64::from(fine_model.reach()) + 6.0;
     // The accepted grains' centres, for the duplicate test.
     let mut found_near = Nearby::new(reach);
     for round in 0..params.max_rounds.max(1) {
@@ -186,7 +189,13 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             if found_near.any_within(centre, 0.5 * width) {
                 continue;
             }
-            let now = fine_model.score(ft.pose, &dark_bordered, &free_bordered);
+            // The fit was scored on the maps as the round began; unless a grain accepted
+            // since painted where its taps read, it scores the same now, to the bit.
+            let now = if this_round.any_within(centre, unchanged_beyond) {
+                fine_model.score(ft.pose, &dark_bordered, &free_bordered)
+            } else {
+                ft.score
+            };
             // Fitted without knowing a neighbour accepted this round: if that neighbour
             // takes part of this outline, fit again next round against the updated map.
             if (this_round.any_within(centre, reach) || this_round.any_within(seed.0, reach))

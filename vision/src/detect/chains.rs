@@ -13,6 +13,11 @@
 //! rods they are. Each repair is kept only when it explains the photograph better (total
 //! score).
 
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use rayon::prelude::*;
+
 use super::accept::Found;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
@@ -127,7 +132,13 @@ fn paint(maps: &mut Maps, pose: Pose, cx: &Context) {
 pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
     let (length, width) = (cx.length, cx.width);
     let half = 0.5 * length;
-    let mut local = Local::new(maps, cx.levels.factor as usize);
+    let factor = cx.levels.factor as usize;
+    let mut coarse = Coarse::of(&maps.free, factor);
+    let mut local = Local {
+        maps,
+        coarse: &mut coarse,
+        factor,
+    };
     let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
     // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
     // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
@@ -319,38 +330,64 @@ impl Window {
         other.c0 >= self.c0 && other.c1 <= self.c1 && other.r0 >= self.r0 && other.r1 <= self.r1
     }
 
+    /// The smallest window holding both.
+    fn union(self, other: Window) -> Window {
+        Window {
+            c0: self.c0.min(other.c0),
+            c1: self.c1.max(other.c1),
+            r0: self.r0.min(other.r0),
+            r1: self.r1.max(other.r1),
+        }
+    }
+
+    /// The window `by` pixels wider on every side.
+    fn grown(self, by: isize) -> Window {
+        Window {
+            c0: self.c0 - by,
+            c1: self.c1 + by,
+            r0: self.r0 - by,
+            r1: self.r1 + by,
+        }
+    }
+
+    fn meets(self, other: Window) -> bool {
+        self.c0 <= other.c1 && other.c0 <= self.c1 && self.r0 <= other.r1 && other.r0 <= self.r1
+    }
+
     fn pixels(self) -> impl Iterator<Item = (usize, usize)> {
         (self.r0..=self.r1)
             .flat_map(move |r| (self.c0..=self.c1).map(move |c| (c as usize, r as usize)))
     }
 }
 
+/// The coarse level of the free darkness, kept equal to [`Plane::downsample`] of it.
+#[derive(Clone)]
+struct Coarse {
+    plane: Plane,
+    bordered: Bordered,
+}
+
+impl Coarse {
+    fn of(free: &Plane, factor: usize) -> Self {
+        let plane = free.downsample(factor);
+        let bordered = Bordered::new(&plane);
+        Coarse { plane, bordered }
+    }
+}
+
 /// The maps with their coarse free darkness, changed in place window by window.
 struct Local<'m> {
     maps: &'m mut Maps,
-    coarse: Plane,
-    coarse_bordered: Bordered,
+    coarse: &'m mut Coarse,
     factor: usize,
 }
 
-impl<'m> Local<'m> {
-    /// The maps, with their coarse free darkness at `factor` made from them.
-    fn new(maps: &'m mut Maps, factor: usize) -> Self {
-        let coarse = maps.free.downsample(factor);
-        let coarse_bordered = Bordered::new(&coarse);
-        Self {
-            maps,
-            coarse,
-            coarse_bordered,
-            factor,
-        }
-    }
-
+impl Local<'_> {
     /// The search levels reading the free darkness of the moment.
     fn levels<'s>(&'s self, cx: &'s Context) -> Levels<'s> {
         Levels {
             fine_free: &self.maps.free_bordered,
-            coarse_free: &self.coarse_bordered,
+            coarse_free: &self.coarse.bordered,
             ..cx.levels
         }
     }
@@ -384,8 +421,9 @@ impl<'m> Local<'m> {
                 }
                 let v = sum / ((r1 - r0) * (c1 - c0)) as f32;
                 let (cc, cr) = (cc as usize, cr as usize);
-                self.coarse.data[cr * self.coarse.width + cc] = v;
-                self.coarse_bordered.set(cc, cr, v);
+                let coarse = &mut *self.coarse;
+                coarse.plane.data[cr * coarse.plane.width + cc] = v;
+                coarse.bordered.set(cc, cr, v);
             }
         }
     }
@@ -446,11 +484,130 @@ impl<'m> Local<'m> {
     }
 }
 
+/// How far (pixels, along x or y) from a fit's seed the taps of any pose it scores may read,
+/// on either level: the farthest offset tried, the fit's drift, the model's reach, and the
+/// bilinear neighbours (a coarse pixel stands for `factor` full-resolution ones).
+fn fit_reads(cx: &Context, offsets: &[(f64, f64)], step: f64) -> f64 {
+    let f = cx.levels.factor;
+    let farthest = offsets.iter().map(|o| o.0.hypot(o.1)).fold(0.0, f64::max);
+    let taps = (f64::from(cx.levels.fine_model.reach()) + 1.5)
+        .max(f64::from(cx.levels.coarse_model.reach()) * f + 1.5 * f);
+    farthest + fit::fit_drift(step, f) + taps + 2.0
+}
+
+/// A trial's outcome worked out ahead on a copy of the maps, and the pixels it read (of
+/// either level, in full-resolution pixels): the sequential pass takes it over when no
+/// repair kept before it changed any of them.
+struct Guess<T> {
+    /// The rod the trial took off, and its pose then.
+    rod: usize,
+    pose: Pose,
+    reads: Window,
+    kept: Option<T>,
+}
+
+/// Most copies of the maps worked on at once: each is about 12 bytes a pixel (40 MB for a
+/// 258 x 120 mm frame at 10 px/mm, 200 MB for a tile of `TILE_PIXELS`).
+const MOST_COPIES: usize = 4;
+
+/// Worked out on copies of the maps as they are before the pass (one per worker, at most
+/// [`MOST_COPIES`]), in parallel, `trial` for each item, in the items' order; nothing when
+/// one thread works, since the sequential pass would then only redo what is guessed.
+fn speculate<I: Sync, R: Send>(
+    items: &[I],
+    local: &Local,
+    trial: impl Fn(&mut Local, &I) -> R + Sync,
+) -> Option<Vec<R>> {
+    let workers = rayon::current_num_threads()
+        .min(MOST_COPIES)
+        .min(items.len());
+    if workers < 2 {
+        return None;
+    }
+    // Each worker takes the next item not yet taken, so uneven trials share out evenly.
+    let next = AtomicUsize::new(0);
+    let results: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
+    let factor = local.factor;
+    (0..workers).into_par_iter().for_each(|_| {
+        let (mut maps, mut coarse) = (local.maps.clone(), local.coarse.clone());
+        let mut copy = Local {
+            maps: &mut maps,
+            coarse: &mut coarse,
+            factor,
+        };
+        loop {
+            let k = next.fetch_add(1, Ordering::Relaxed);
+            let Some(item) = items.get(k) else {
+                break;
+            };
+            let result = trial(&mut copy, item);
+            *results[k].lock().unwrap_or_else(|e| e.into_inner()) = Some(result);
+        }
+    });
+    Some(
+        results
+            .into_iter()
+            .map(|r| {
+                r.into_inner()
+                    .unwrap_or_else(|e| e.into_inner())
+                    .expect("every item is worked out")
+            })
+            .collect(),
+    )
+}
+
+/// The guess for rod `rod` at `pose`, if there is one and no window in `changed` meets
+/// what it read.
+fn usable<'g, T>(
+    guesses: &'g [Guess<T>],
+    rod: usize,
+    pose: Pose,
+    changed: &[Window],
+) -> Option<&'g Guess<T>> {
+    guesses
+        .iter()
+        .find(|g| g.rod == rod && g.pose == pose)
+        .filter(|g| !changed.iter().any(|c| c.meets(g.reads)))
+}
+
+/// What a kept trial did to the maps, done again: rod `rod` taken off, `fits` painted.
+/// Returns the pixels it changed (of either level).
+fn replay(
+    local: &mut Local,
+    found: &[Found],
+    rod: usize,
+    fits: &[fit::Fitted],
+    cx: &Context,
+) -> Window {
+    let mut changed = local.box_of(found[rod].pose, cx.model);
+    local.unpaint(found, rod, &[], cx);
+    for ft in fits {
+        let b = local.box_of(ft.pose, cx.model);
+        local.paint(ft.pose, b, cx);
+        local.update_coarse(b);
+        changed = changed.union(b);
+    }
+    changed.grown(cx.levels.factor as isize + 1)
+}
+
+/// Pixels changed by a kept trial (of either level): the box of the rod taken off and those
+/// of the fits painted.
+fn changed_by(local: &Local, old: Pose, fits: &[fit::Fitted], cx: &Context) -> Window {
+    fits.iter()
+        .fold(local.box_of(old, cx.model), |w, ft| {
+            w.union(local.box_of(ft.pose, cx.model))
+        })
+        .grown(cx.levels.factor as isize + 1)
+}
+
 /// A rod fitted across the ends of n = L/D (rounded) rods lying face to face at right angles
 /// to it leaves their remainder unexplained beside it. Such a rod, with at least a third of a
 /// rod's area of unexplained dark area in the block the n rods would fill, is refitted as n
 /// rods turned by a right angle, kept when they explain the photograph better. Each trial
 /// changes the maps in a window around the rod only, and is undone there when not kept.
+/// The trials are worked out ahead in parallel on copies of the maps; the rods are then
+/// looked at in order, each taking its trial's guess unless a repair kept before it changed
+/// what the guess read: the outcome is the sequential one whatever the thread count.
 pub fn repair_turned(
     found: &mut Vec<Found>,
     maps: &mut Maps,
@@ -460,69 +617,63 @@ pub fn repair_turned(
 ) -> usize {
     let (length, width) = (cx.length, cx.width);
     let n = (length / width).round().max(2.0) as usize;
-    let half_u = 0.5 * (n as f64 * width).max(length);
-    let half_v = 0.5 * length;
-    let mut local = Local::new(maps, cx.levels.factor as usize);
-    // Wider than any outline the n fits can reach from seeds this close to the rod.
-    let reach = 1.5 * length + 2.0 * width + 4.0;
+    let factor = cx.levels.factor as usize;
+    let mut coarse = Coarse::of(&maps.free, factor);
+    let mut local = Local {
+        maps,
+        coarse: &mut coarse,
+        factor,
+    };
+    let trial = Turned {
+        n,
+        half_u: 0.5 * (n as f64 * width).max(length),
+        half_v: 0.5 * length,
+        least: length * width / 3.0,
+        // Wider than any outline the n fits can reach from seeds this close to the rod.
+        reach: 1.5 * length + 2.0 * width + 4.0,
+        offsets,
+        step,
+        // The n seeds lie along the rod, at most (n - 1) / 2 widths from its centre.
+        reads: 0.5 * (n as f64 - 1.0) * width + fit_reads(cx, offsets, step),
+    };
+    let rods: Vec<usize> = (0..found.len()).collect();
+    let before: &[Found] = found;
+    let guesses = speculate(&rods, &local, |local, &g| {
+        let found = before;
+        let pose = found[g].pose;
+        trial.crowded(local, pose).then(|| Guess {
+            rod: g,
+            pose,
+            reads: trial.reads(local, pose),
+            kept: trial.run(local, found, g, cx, true),
+        })
+    });
+    let mut changed: Vec<Window> = Vec::new();
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
-    for g in 0..found.len() {
+    for g in rods {
         if touched[g] {
             continue;
         }
         let p = found[g].pose;
-        let (s, c) = p.phi.sin_cos();
-        let free = &local.maps.free;
-        let mut unexplained = 0.0;
-        let mut u = -half_u;
-        while u <= half_u {
-            let mut v = -half_v;
-            while v <= half_v {
-                let (x, y) = (p.x + u * c + v * s, p.y - u * s + v * c);
-                if x >= 0.0
-                    && y >= 0.0
-                    && x < free.width as f64
-                    && y < free.height as f64
-                    && free.at(x as usize, y as usize) > 0.5
-                {
-                    unexplained += 1.0;
-                }
-                v += 1.0;
-            }
-            u += 1.0;
-        }
-        if unexplained < length * width / 3.0 {
+        if !trial.crowded(&local, p) {
             continue;
         }
-        let window = Window::around(p.x, p.y, reach, reach, &local.maps.free);
-        let saved = local.save(window);
-        local.unpaint(found, g, &[], cx);
-        let old_total = f64::from(
-            cx.model
-                .score(p, cx.levels.fine, &local.maps.free_bordered)
-                .total,
-        );
-        let mut new_total = 0.0;
-        let mut fitted = Vec::with_capacity(n);
-        let turned = p.phi + std::f64::consts::FRAC_PI_2;
-        for k in 0..n {
-            let a = (k as f64 - 0.5 * (n as f64 - 1.0)) * width;
-            let seed = (p.x + a * c, p.y - a * s);
-            let ft = fit::fit(&local.levels(cx), seed, offsets, step, Some(turned));
-            let b = local.box_of(ft.pose, cx.model);
-            if !cx.passes(&ft, b, window) {
-                break;
-            }
-            new_total += f64::from(ft.score.total);
-            local.paint(ft.pose, b, cx);
-            local.update_coarse(b);
-            fitted.push(ft);
-        }
-        if fitted.len() < n || new_total <= old_total {
-            local.restore(window, &saved);
+        let guess = guesses
+            .as_ref()
+            .and_then(|all| all[g].as_ref())
+            .and_then(|guess| usable(std::slice::from_ref(guess), g, p, &changed));
+        let fitted = match guess {
+            Some(guess) => guess.kept.clone().inspect(|fits| {
+                changed.push(replay(&mut local, found, g, fits, cx));
+            }),
+            None => trial.run(&mut local, found, g, cx, false).inspect(|fits| {
+                changed.push(changed_by(&local, p, fits, cx));
+            }),
+        };
+        let Some(fitted) = fitted else {
             continue;
-        }
+        };
         for (k, ft) in fitted.iter().enumerate() {
             let r = cx.found(ft);
             if k == 0 {
@@ -536,6 +687,104 @@ pub fn repair_turned(
         repaired += 1;
     }
     repaired
+}
+
+/// The settings of [`repair_turned`]'s trials.
+struct Turned<'a> {
+    n: usize,
+    /// Half sides of the block the n rods would fill, along and across the rod.
+    half_u: f64,
+    half_v: f64,
+    /// Unexplained dark area (pixels) in the block that calls for a trial.
+    least: f64,
+    /// Half side of the window a trial may change.
+    reach: f64,
+    offsets: &'a [(f64, f64)],
+    step: f64,
+    /// How far from the rod's centre a trial's fits may read.
+    reads: f64,
+}
+
+impl Turned<'_> {
+    /// Whether the block beside the rod at `p` holds at least a third of a rod's area of
+    /// unexplained dark area.
+    fn crowded(&self, local: &Local, p: Pose) -> bool {
+        let (s, c) = p.phi.sin_cos();
+        let free = &local.maps.free;
+        let mut unexplained = 0.0;
+        let mut u = -self.half_u;
+        while u <= self.half_u {
+            let mut v = -self.half_v;
+            while v <= self.half_v {
+                let (x, y) = (p.x + u * c + v * s, p.y - u * s + v * c);
+                if x >= 0.0
+                    && y >= 0.0
+                    && x < free.width as f64
+                    && y < free.height as f64
+                    && free.at(x as usize, y as usize) > 0.5
+                {
+                    unexplained += 1.0;
+                }
+                v += 1.0;
+            }
+            u += 1.0;
+        }
+        unexplained >= self.least
+    }
+
+    /// What a trial at the rod at `p` reads, of either level.
+    fn reads(&self, local: &Local, p: Pose) -> Window {
+        Window::around(p.x, p.y, self.reads, self.reads, &local.maps.free)
+    }
+
+    /// The trial at rod `g`: the n fits when kept (the maps then changed, unless `undo`),
+    /// otherwise nothing (the maps as they were).
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        g: usize,
+        cx: &Context,
+        undo: bool,
+    ) -> Option<Vec<fit::Fitted>> {
+        let p = found[g].pose;
+        let (s, c) = p.phi.sin_cos();
+        let window = Window::around(p.x, p.y, self.reach, self.reach, &local.maps.free);
+        let saved = local.save(window);
+        local.unpaint(found, g, &[], cx);
+        let old_total = f64::from(
+            cx.model
+                .score(p, cx.levels.fine, &local.maps.free_bordered)
+                .total,
+        );
+        let mut new_total = 0.0;
+        let mut fitted = Vec::with_capacity(self.n);
+        let turned = p.phi + std::f64::consts::FRAC_PI_2;
+        for k in 0..self.n {
+            let a = (k as f64 - 0.5 * (self.n as f64 - 1.0)) * cx.width;
+            let seed = (p.x + a * c, p.y - a * s);
+            let ft = fit::fit(
+                &local.levels(cx),
+                seed,
+                self.offsets,
+                self.step,
+                Some(turned),
+            );
+            let b = local.box_of(ft.pose, cx.model);
+            if !cx.passes(&ft, b, window) {
+                break;
+            }
+            new_total += f64::from(ft.score.total);
+            local.paint(ft.pose, b, cx);
+            local.update_coarse(b);
+            fitted.push(ft);
+        }
+        let kept = !(fitted.len() < self.n || new_total <= old_total);
+        if !kept || undo {
+            local.restore(window, &saved);
+        }
+        kept.then_some(fitted)
+    }
 }
 
 /// Least agreement of a rod that [`repair_crowded`] adds.
@@ -570,7 +819,9 @@ fn unexplained_near(free: &Plane, x: f64, y: f64, side: f64) -> f64 {
 /// of side L), each accepted rod within a length (nearest first) is taken off, a rod fitted
 /// at the seed (all angles), and the rod taken off refined again (Newton from its pose); the
 /// first pair that passes the acceptance's confidence and scores more than the rod alone is
-/// kept. Each trial changes the maps in a window around the seed only.
+/// kept. Each trial changes the maps in a window around the seed only. As in
+/// [`repair_turned`], the trials are worked out ahead in parallel and taken over in order
+/// where nothing they read has changed since.
 pub fn repair_crowded(
     found: &mut Vec<Found>,
     maps: &mut Maps,
@@ -579,68 +830,69 @@ pub fn repair_crowded(
     offsets: &[(f64, f64)],
     step: f64,
 ) -> usize {
-    let (length, width) = (cx.length, cx.width);
-    let mut local = Local::new(maps, cx.levels.factor as usize);
-    let reach = 1.5 * length + 2.0 * width + 4.0;
+    let factor = cx.levels.factor as usize;
+    let mut coarse = Coarse::of(&maps.free, factor);
+    let mut local = Local {
+        maps,
+        coarse: &mut coarse,
+        factor,
+    };
+    let trial = Crowded {
+        reach: 1.5 * cx.length + 2.0 * cx.width + 4.0,
+        offsets,
+        step,
+        reads: fit_reads(cx, offsets, step),
+    };
+    let before: &[Found] = found;
+    let untouched = vec![false; found.len()];
+    let guesses = speculate(seeds, &local, |local, &seed| {
+        let found = before;
+        let mut guesses = Vec::new();
+        if !trial.crowded(local, seed, cx) {
+            return guesses;
+        }
+        for h in trial.near(found, &untouched, seed, cx) {
+            let pose = found[h].pose;
+            let kept = trial.run(local, found, seed, h, cx, true);
+            let done = kept.is_some();
+            guesses.push(Guess {
+                rod: h,
+                pose,
+                reads: trial.reads(local, seed, pose),
+                kept,
+            });
+            if done {
+                break;
+            }
+        }
+        guesses
+    });
+    let mut changed: Vec<Window> = Vec::new();
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
-    for &seed in seeds {
-        if unexplained_near(&local.maps.free, seed.0, seed.1, length) < length * width / 3.0 {
+    for (i, &seed) in seeds.iter().enumerate() {
+        if !trial.crowded(&local, seed, cx) {
             continue;
         }
-        let mut near: Vec<(f64, usize)> = (0..found.len())
-            .filter(|&k| !touched[k])
-            .map(|k| {
-                let p = found[k].pose;
-                ((p.x - seed.0).hypot(p.y - seed.1), k)
-            })
-            .filter(|&(d, _)| d < length)
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        for &(_, h) in near.iter().take(3) {
-            let window = Window::around(seed.0, seed.1, reach, reach, &local.maps.free);
-            let saved = local.save(window);
+        for h in trial.near(found, &touched, seed, cx) {
             let old = found[h].pose;
-            local.unpaint(found, h, &[], cx);
-            let old_total = f64::from(
-                cx.model
-                    .score(old, cx.levels.fine, &local.maps.free_bordered)
-                    .total,
-            );
-            let mut fitted = Vec::with_capacity(2);
-            let mut new_total = 0.0;
-            // The rod at the seed, then the rod taken off: refined from its pose, or when
-            // that fails (a rod fitted across two may need turning), fitted afresh there.
-            for k in 0..3 {
-                if k == 2 && fitted.len() != 1 {
-                    break;
-                }
-                let levels = local.levels(cx);
-                let ft = match k {
-                    0 => fit::fit(&levels, seed, offsets, step, None),
-                    1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
-                    _ => fit::fit(&levels, (old.x, old.y), offsets, step, None),
-                };
-                let b = local.box_of(ft.pose, cx.model);
-                // The rod added where the acceptance found none must agree clearly: at the
-                // acceptance's 0.5, rods added at the photograph's edge with agreements of
-                // 0.69 and 0.79 were false (lab, rod3 at 10 px/mm: two false detections more).
-                if !cx.passes(&ft, b, window) || (k == 0 && ft.score.agreement < ADDED_AGREEMENT) {
-                    if k == 0 {
-                        break;
-                    }
-                    continue;
-                }
-                new_total += f64::from(ft.score.total);
-                local.paint(ft.pose, b, cx);
-                local.update_coarse(b);
-                fitted.push(ft);
-            }
-            if fitted.len() < 2 || new_total <= old_total {
-                local.restore(window, &saved);
+            let guess = guesses
+                .as_ref()
+                .and_then(|all| usable(&all[i], h, old, &changed));
+            let fitted = match guess {
+                Some(guess) => guess.kept.inspect(|fits| {
+                    changed.push(replay(&mut local, found, h, fits, cx));
+                }),
+                None => trial
+                    .run(&mut local, found, seed, h, cx, false)
+                    .inspect(|fits| {
+                        changed.push(changed_by(&local, old, fits, cx));
+                    }),
+            };
+            let Some(fitted) = fitted else {
                 continue;
-            }
-            let [added, moved] = [&fitted[0], &fitted[1]].map(|ft| cx.found(ft));
+            };
+            let [added, moved] = fitted.map(|ft| cx.found(&ft));
             found[h] = moved;
             touched[h] = true;
             found.push(added);
@@ -650,6 +902,106 @@ pub fn repair_crowded(
         }
     }
     repaired
+}
+
+/// The settings of [`repair_crowded`]'s trials.
+struct Crowded<'a> {
+    /// Half side of the window a trial may change.
+    reach: f64,
+    offsets: &'a [(f64, f64)],
+    step: f64,
+    /// How far from the seed (and from the rod taken off) a trial's fits may read.
+    reads: f64,
+}
+
+impl Crowded<'_> {
+    fn crowded(&self, local: &Local, seed: (f64, f64), cx: &Context) -> bool {
+        unexplained_near(&local.maps.free, seed.0, seed.1, cx.length) >= cx.length * cx.width / 3.0
+    }
+
+    /// The rods tried at a seed: the three nearest within a length not yet touched.
+    fn near(
+        &self,
+        found: &[Found],
+        touched: &[bool],
+        seed: (f64, f64),
+        cx: &Context,
+    ) -> Vec<usize> {
+        let mut near: Vec<(f64, usize)> = (0..found.len())
+            .filter(|&k| !touched[k])
+            .map(|k| {
+                let p = found[k].pose;
+                ((p.x - seed.0).hypot(p.y - seed.1), k)
+            })
+            .filter(|&(d, _)| d < cx.length)
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        near.into_iter().take(3).map(|(_, k)| k).collect()
+    }
+
+    /// What a trial at `seed` taking off the rod at `old` reads: its fits at the seed and,
+    /// afresh, at the rod's place, of either level.
+    fn reads(&self, local: &Local, seed: (f64, f64), old: Pose) -> Window {
+        let r = self.reads;
+        let free = &local.maps.free;
+        Window::around(seed.0, seed.1, r, r, free).union(Window::around(old.x, old.y, r, r, free))
+    }
+
+    /// The trial taking rod `h` off at `seed`: the fits (added, moved) when kept (the maps
+    /// then changed, unless `undo`), otherwise nothing (the maps as they were).
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        seed: (f64, f64),
+        h: usize,
+        cx: &Context,
+        undo: bool,
+    ) -> Option<[fit::Fitted; 2]> {
+        let window = Window::around(seed.0, seed.1, self.reach, self.reach, &local.maps.free);
+        let saved = local.save(window);
+        let old = found[h].pose;
+        local.unpaint(found, h, &[], cx);
+        let old_total = f64::from(
+            cx.model
+                .score(old, cx.levels.fine, &local.maps.free_bordered)
+                .total,
+        );
+        let mut fitted = Vec::with_capacity(2);
+        let mut new_total = 0.0;
+        // The rod at the seed, then the rod taken off: refined from its pose, or when
+        // that fails (a rod fitted across two may need turning), fitted afresh there.
+        for k in 0..3 {
+            if k == 2 && fitted.len() != 1 {
+                break;
+            }
+            let levels = local.levels(cx);
+            let ft = match k {
+                0 => fit::fit(&levels, seed, self.offsets, self.step, None),
+                1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
+                _ => fit::fit(&levels, (old.x, old.y), self.offsets, self.step, None),
+            };
+            let b = local.box_of(ft.pose, cx.model);
+            // The rod added where the acceptance found none must agree clearly: at the
+            // acceptance's 0.5, rods added at the photograph's edge with agreements of
+            // 0.69 and 0.79 were false (lab, rod3 at 10 px/mm: two false detections more).
+            if !cx.passes(&ft, b, window) || (k == 0 && ft.score.agreement < ADDED_AGREEMENT) {
+                if k == 0 {
+                    break;
+                }
+                continue;
+            }
+            new_total += f64::from(ft.score.total);
+            local.paint(ft.pose, b, cx);
+            local.update_coarse(b);
+            fitted.push(ft);
+        }
+        let kept = !(fitted.len() < 2 || new_total <= old_total);
+        if !kept || undo {
+            local.restore(window, &saved);
+        }
+        kept.then(|| [fitted[0], fitted[1]])
+    }
 }
 
 #[cfg(test)]

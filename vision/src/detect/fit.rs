@@ -26,6 +26,7 @@ pub struct Levels<'a> {
 /// full-resolution pixels): a seed on a rod's axis may sit anywhere along it.
 pub type Offsets = [(f64, f64)];
 
+#[derive(Clone, Copy, Debug)]
 pub struct Fitted {
     pub pose: Pose,
     pub score: Score,
@@ -149,6 +150,19 @@ pub fn fit(
         }
     }
     best.expect("at least one pose is tried")
+}
+
+/// Farthest (pixels, along x or y) that a pose [`fit`] scores lies from the position its
+/// coarse search started from (seed plus offset), with `position_step` and the levels'
+/// `factor`: the finalists' climbs (two sweeps, the step halved) then their refinement.
+pub fn fit_drift(position_step: f64, factor: f64) -> f64 {
+    1.5 * position_step.max(factor) + refine_drift(0.5 * factor)
+}
+
+/// Farthest (pixels, along x or y) that a pose [`refine`] scores lies from its start: the
+/// probes, then steps no longer than the first reach each.
+pub fn refine_drift(position_step: f64) -> f64 {
+    0.5 + NEWTON_STEPS as f64 * position_step.max(0.5)
 }
 
 /// Newton refinement at full resolution from a starting pose: each pose scored gives the

@@ -208,7 +208,11 @@ fn find(image: &DynamicImage, params: &DetectParams) -> Result<Vec<accept::Found
     if dark.dark_fraction * (pixels as f64) < 0.1 * grain_area_px {
         return Ok(Vec::new());
     }
-    let blobs = seeds::bright_blobs(&dark.plane);
+    // Only nuts use bright blobs (holes, and the scale from their size).
+    let blobs = match params.shape {
+        GrainShape::Square { .. } => seeds::bright_blobs(&dark.plane),
+        GrainShape::Rod { .. } => Vec::new(),
+    };
     if params.check_scale {
         check_scale(params, &dark.plane, &blobs)?;
     }

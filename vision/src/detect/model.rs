@@ -314,6 +314,21 @@ impl Model {
         self.geometry.half_length
     }
 
+    /// Farthest any tap of a pose lies from its centre, whatever its angle (pixels of this
+    /// level).
+    pub fn reach(&self) -> f32 {
+        [
+            &self.interior,
+            &self.hole,
+            &self.ring,
+            &self.highlight,
+            &self.flank,
+        ]
+        .iter()
+        .map(|t| t.reach())
+        .fold(0.0, f32::max)
+    }
+
     /// Half extents (columns, rows) of the axis-aligned box that holds the pose and its ring.
     pub fn extent(&self, phi: f64) -> (f32, f32) {
         let g = &self.geometry;

@@ -8,7 +8,7 @@
 //! same order, so a score does not depend on the processor, nor on anything but its inputs.
 
 #[cfg(target_arch = "x86_64")]
-use std::arch::x86_64::{__m256, __m256d, __m256i};
+use std::arch::x86_64::{__m256, __m256d, __m256i, __m512, __m512i};
 
 use super::plane::Bordered;
 #[cfg(test)]
@@ -83,11 +83,16 @@ impl Taps {
 
     /// Pads to whole lanes; call once, after the last `push`.
     pub fn seal(&mut self) {
-        while self.u.len() % LANES != 0 {
+        while !self.u.len().is_multiple_of(LANES) {
             self.u.push(0.0);
             self.v.push(0.0);
             self.w.push(0.0);
         }
+    }
+
+    /// Farthest any tap lies from the placement's origin, whatever its angle (pixels).
+    pub fn reach(&self) -> f32 {
+        self.reach_u.hypot(self.reach_v)
     }
 
     /// Whether every tap of a placement samples at least one pixel inside the plane's edge, so
@@ -126,6 +131,11 @@ impl Taps {
             return self.slopes_near_edge(at, plane, floor);
         }
         #[cfg(target_arch = "x86_64")]
+        if has_avx512() {
+            // SAFETY: AVX-512 F and DQ are present and the placement inside the plane.
+            return unsafe { self.slopes_inside_avx512(at, plane, floor) };
+        }
+        #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present and the placement inside the plane.
             return unsafe { self.slopes_inside_avx2(at, plane, floor) };
@@ -151,16 +161,34 @@ impl Taps {
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     unsafe fn slopes_inside_avx2(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        let mut acc = SlopeLanesX8::new(at, floor);
+        // SAFETY: as the caller's.
+        unsafe { self.slopes_inside_avx2_from(at, plane, &mut acc, 0) };
+        acc.slopes(Some(self.weight))
+    }
+
+    /// The slope sums of taps `start..` (whole lanes) added to `acc`.
+    ///
+    /// # Safety
+    /// As [`Taps::slopes_inside_avx2`].
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn slopes_inside_avx2_from(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        acc: &mut SlopeLanesX8,
+        start: usize,
+    ) {
         use std::arch::x86_64::*;
         let width = plane.stride as i32;
         // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
         let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
         let below = unsafe { data.add(plane.stride) };
-        let mut acc = SlopeLanesX8::new(at, floor);
         let at = PlacementX8::new(at);
         let half = _mm256_set1_ps(0.5);
         let stride = _mm256_set1_epi32(width);
-        for k in (0..self.u.len()).step_by(LANES) {
+        for k in (start..self.u.len()).step_by(LANES) {
             // SAFETY: k is a whole lane of the padded columns (`seal`).
             let (x, y, w) = unsafe { at.taps(self, k) };
             let (fx, fy) = (_mm256_sub_ps(x, half), _mm256_sub_ps(y, half));
@@ -172,12 +200,56 @@ impl Taps {
             let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
             acc.add(w, value, gx, gy, x, y);
         }
+    }
+
+    /// [`Taps::slopes_inside_avx2`] sixteen taps at a time: the same operations on each tap,
+    /// and each group of eight added to the eight lanes in tap order, so the sums agree to
+    /// the bit.
+    ///
+    /// # Safety
+    /// AVX-512 F and DQ must be present and the placement inside the plane
+    /// ([`Taps::inside`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx2")]
+    unsafe fn slopes_inside_avx512(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        use std::arch::x86_64::*;
+        let width = plane.stride as i32;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let mut acc = SlopeLanesX8::new(at, floor);
+        let at16 = PlacementX16::new(at);
+        let half = _mm512_set1_ps(0.5);
+        let stride = _mm512_set1_epi32(width);
+        let floor16 = _mm512_set1_ps(floor);
+        let n = self.u.len();
+        let mut k = 0;
+        while k + 2 * LANES <= n {
+            // SAFETY: k + 16 taps lie inside the padded columns.
+            let (x, y, w) = unsafe { at16.taps(self, k) };
+            let (fx, fy) = (_mm512_sub_ps(x, half), _mm512_sub_ps(y, half));
+            let (c, r) = (_mm512_cvttps_epi32(fx), _mm512_cvttps_epi32(fy));
+            let tx = _mm512_sub_ps(fx, _mm512_cvtepi32_ps(c));
+            let ty = _mm512_sub_ps(fy, _mm512_cvtepi32_ps(r));
+            let i = _mm512_add_epi32(_mm512_mullo_epi32(r, stride), c);
+            // SAFETY: `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
+            let (value, gx, gy) = unsafe { gather_bilinear_slopes_x16(data, below, i, tx, ty) };
+            add_slopes_x16(&mut acc, &at16, floor16, w, (value, gx, gy), (x, y));
+            k += 2 * LANES;
+        }
+        // SAFETY: as this function's.
+        unsafe { self.slopes_inside_avx2_from(at, plane, &mut acc, k) };
         acc.slopes(Some(self.weight))
     }
 
     /// The slope sums of a placement near or beyond the edge: taps outside count for
     /// nothing, neighbours beyond the edge are clamped onto it (as [`Taps::sum`] does).
     fn slopes_near_edge(&self, at: Placement, plane: &Bordered, floor: f32) -> Slopes {
+        #[cfg(target_arch = "x86_64")]
+        if has_avx512() {
+            // SAFETY: AVX-512 F and DQ are present.
+            return unsafe { self.slopes_near_edge_avx512(at, plane, floor) };
+        }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present.
@@ -220,6 +292,51 @@ impl Taps {
         acc.slopes(None)
     }
 
+    /// [`Taps::slopes_near_edge_avx2`] sixteen taps at a time, each group of eight added to
+    /// the lanes in tap order (the same sums to the bit).
+    ///
+    /// # Safety
+    /// AVX-512 F and DQ must be present.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx2")]
+    unsafe fn slopes_near_edge_avx512(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+    ) -> Slopes {
+        use std::arch::x86_64::*;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let mut acc = SlopeLanesX8::new(at, floor);
+        let at16 = PlacementX16::new(at);
+        let at8 = PlacementX8::new(at);
+        let edge = EdgeX16::new(plane);
+        let edge8 = EdgeX8::new(plane);
+        let floor16 = _mm512_set1_ps(floor);
+        let n = self.u.len();
+        let mut k = 0;
+        while k + 2 * LANES <= n {
+            // SAFETY: k + 16 taps lie inside the padded columns.
+            let (x, y, w) = unsafe { at16.taps(self, k) };
+            let (w, i, tx, ty) = edge.lookup(x, y, w);
+            // SAFETY: every index is clamped into the bordered plane.
+            let (value, gx, gy) = unsafe { gather_bilinear_slopes_x16(data, below, i, tx, ty) };
+            add_slopes_x16(&mut acc, &at16, floor16, w, (value, gx, gy), (x, y));
+            k += 2 * LANES;
+        }
+        if k < n {
+            // SAFETY: k is the last whole lane of the padded columns.
+            let (x, y, w) = unsafe { at8.taps(self, k) };
+            let (w, i, tx, ty) = edge8.lookup(x, y, w);
+            // SAFETY: every index is clamped into the bordered plane.
+            let (value, gx, gy) = unsafe { gather_bilinear_slopes(data, below, i, tx, ty) };
+            acc.add(w, value, gx, gy, x, y);
+        }
+        acc.slopes(None)
+    }
+
     /// Padded taps (a whole number of lanes).
     pub fn padded_len(&self) -> usize {
         self.u.len()
@@ -247,7 +364,9 @@ impl Taps {
         taps: std::ops::Range<usize>,
     ) {
         assert!(
-            taps.start % LANES == 0 && taps.end % LANES == 0 && taps.end <= self.u.len(),
+            taps.start.is_multiple_of(LANES)
+                && taps.end.is_multiple_of(LANES)
+                && taps.end <= self.u.len(),
             "tap ranges are whole lanes of the padded columns"
         );
         assert!(
@@ -255,6 +374,13 @@ impl Taps {
             "plane too large for 32-bit tap indices"
         );
         debug_assert!(self.inside(at, plane));
+        #[cfg(target_arch = "x86_64")]
+        if taps.len() >= WIDE_ENOUGH && has_avx512() {
+            // SAFETY: AVX-512 F and DQ are present, the range is whole lanes of the columns,
+            // and the caller keeps every bilinear neighbour in the plane (`inside`).
+            unsafe { self.accumulate_inside_avx512(at, plane, floor, lanes, taps) };
+            return;
+        }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present, the range is whole lanes of the columns, and the caller
@@ -343,9 +469,67 @@ impl Taps {
         unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), acc) };
     }
 
+    /// [`Taps::accumulate_inside_avx2`] sixteen taps at a time: the same operations on each
+    /// tap, and each group of eight added to the lanes in tap order, so the lanes agree to
+    /// the bit.
+    ///
+    /// # Safety
+    /// AVX-512 F and DQ must be present, `taps` whole lanes of the padded columns, and the
+    /// placement inside the plane ([`Taps::inside`]).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx2")]
+    unsafe fn accumulate_inside_avx512(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+        lanes: &mut [f32; LANES],
+        taps: std::ops::Range<usize>,
+    ) {
+        use std::arch::x86_64::*;
+        let width = plane.stride as i32;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let at16 = PlacementX16::new(at);
+        let half = _mm512_set1_ps(0.5);
+        let floor16 = _mm512_set1_ps(floor);
+        let stride = _mm512_set1_epi32(width);
+        // SAFETY: `lanes` holds exactly one vector.
+        let mut acc = unsafe { _mm256_loadu_ps(lanes.as_ptr()) };
+        let mut k = taps.start;
+        while k + 2 * LANES <= taps.end {
+            // SAFETY: k + 16 taps lie inside the range, whole lanes of the padded columns.
+            let (x, y, w) = unsafe { at16.taps(self, k) };
+            let (fx, fy) = (_mm512_sub_ps(x, half), _mm512_sub_ps(y, half));
+            let (c, r) = (_mm512_cvttps_epi32(fx), _mm512_cvttps_epi32(fy));
+            let tx = _mm512_sub_ps(fx, _mm512_cvtepi32_ps(c));
+            let ty = _mm512_sub_ps(fy, _mm512_cvtepi32_ps(r));
+            let i = _mm512_add_epi32(_mm512_mullo_epi32(r, stride), c);
+            // SAFETY: `inside` keeps (c, r) and (c + 1, r + 1) in the plane.
+            let (a, b, d, e) = unsafe { gather_corners_x16(data, below, i) };
+            let value = blend_x16(a, b, d, e, tx, ty);
+            let terms = _mm512_mul_ps(w, _mm512_max_ps(value, floor16));
+            acc = _mm256_add_ps(acc, _mm512_castps512_ps256(terms));
+            acc = _mm256_add_ps(acc, _mm512_extractf32x8_ps::<1>(terms));
+            k += 2 * LANES;
+        }
+        // SAFETY: `lanes` holds exactly one vector.
+        unsafe { _mm256_storeu_ps(lanes.as_mut_ptr(), acc) };
+        if k < taps.end {
+            // SAFETY: as this function's; AVX2 comes with AVX-512.
+            unsafe { self.accumulate_inside_avx2(at, plane, floor, lanes, k..taps.end) };
+        }
+    }
+
     /// Taps near or beyond the edge (a sixth of the poses on a full-width frame): taps
     /// outside the plane count for nothing, neighbours beyond the edge are clamped onto it.
     fn sum_near_edge(&self, at: Placement, plane: &Bordered, floor: f32) -> (f32, f32) {
+        #[cfg(target_arch = "x86_64")]
+        if self.u.len() >= WIDE_ENOUGH && has_avx512() {
+            // SAFETY: AVX-512 F and DQ are present.
+            return unsafe { self.sum_near_edge_avx512(at, plane, floor) };
+        }
         #[cfg(target_arch = "x86_64")]
         if std::is_x86_feature_detected!("avx2") {
             // SAFETY: AVX2 is present.
@@ -393,6 +577,192 @@ impl Taps {
             _mm256_storeu_ps(weights.as_mut_ptr(), acc_w);
         }
         (combine(sums), combine(weights))
+    }
+}
+
+impl Taps {
+    /// [`Taps::sum_near_edge_avx2`] sixteen taps at a time, each group of eight added to the
+    /// lanes in tap order (the same sums to the bit).
+    ///
+    /// # Safety
+    /// AVX-512 F and DQ must be present.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f,avx512dq,avx2")]
+    unsafe fn sum_near_edge_avx512(
+        &self,
+        at: Placement,
+        plane: &Bordered,
+        floor: f32,
+    ) -> (f32, f32) {
+        use std::arch::x86_64::*;
+        // SAFETY: pixel (0, 0) of the plane and the row below it lie inside the border.
+        let data = unsafe { plane.data.as_ptr().add(plane.stride + 1) };
+        let below = unsafe { data.add(plane.stride) };
+        let at16 = PlacementX16::new(at);
+        let at8 = PlacementX8::new(at);
+        let edge = EdgeX16::new(plane);
+        let edge8 = EdgeX8::new(plane);
+        let floor16 = _mm512_set1_ps(floor);
+        let (mut acc, mut acc_w) = (_mm256_setzero_ps(), _mm256_setzero_ps());
+        let n = self.u.len();
+        let mut k = 0;
+        while k + 2 * LANES <= n {
+            // SAFETY: k + 16 taps lie inside the padded columns.
+            let (x, y, w) = unsafe { at16.taps(self, k) };
+            let (w, i, tx, ty) = edge.lookup(x, y, w);
+            // SAFETY: every index is clamped into the bordered plane.
+            let (a, b, d, e) = unsafe { gather_corners_x16(data, below, i) };
+            let value = blend_x16(a, b, d, e, tx, ty);
+            let terms = _mm512_mul_ps(w, _mm512_max_ps(value, floor16));
+            acc = _mm256_add_ps(acc, _mm512_castps512_ps256(terms));
+            acc = _mm256_add_ps(acc, _mm512_extractf32x8_ps::<1>(terms));
+            acc_w = _mm256_add_ps(acc_w, _mm512_castps512_ps256(w));
+            acc_w = _mm256_add_ps(acc_w, _mm512_extractf32x8_ps::<1>(w));
+            k += 2 * LANES;
+        }
+        if k < n {
+            // SAFETY: k is the last whole lane of the padded columns.
+            let (x, y, w) = unsafe { at8.taps(self, k) };
+            let (w, i, tx, ty) = edge8.lookup(x, y, w);
+            // SAFETY: every index is clamped into the bordered plane.
+            let value = unsafe { gather_bilinear(data, below, i, tx, ty) };
+            acc = _mm256_add_ps(
+                acc,
+                _mm256_mul_ps(w, _mm256_max_ps(value, _mm256_set1_ps(floor))),
+            );
+            acc_w = _mm256_add_ps(acc_w, w);
+        }
+        let (mut sums, mut weights) = ([0.0f32; LANES], [0.0f32; LANES]);
+        // SAFETY: each array holds exactly one vector.
+        unsafe {
+            _mm256_storeu_ps(sums.as_mut_ptr(), acc);
+            _mm256_storeu_ps(weights.as_mut_ptr(), acc_w);
+        }
+        (combine(sums), combine(weights))
+    }
+}
+
+/// [`EdgeX8`] on sixteen lanes.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct EdgeX16 {
+    width: __m512,
+    height: __m512,
+    stride: __m512i,
+    last_column: __m512i,
+    last_row: __m512i,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl EdgeX16 {
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn new(plane: &Bordered) -> Self {
+        use std::arch::x86_64::*;
+        Self {
+            width: _mm512_set1_ps(plane.width as f32),
+            height: _mm512_set1_ps(plane.height as f32),
+            stride: _mm512_set1_epi32(plane.stride as i32),
+            last_column: _mm512_set1_epi32(plane.width as i32 - 1),
+            last_row: _mm512_set1_epi32(plane.height as i32 - 1),
+        }
+    }
+
+    /// [`EdgeX8::lookup`], the same operations: a floor is a rounding towards minus
+    /// infinity, and a weight not seen is zeroed (+0, as the mask's `and` gives).
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn lookup(self, x: __m512, y: __m512, w: __m512) -> (__m512, __m512i, __m512, __m512) {
+        use std::arch::x86_64::*;
+        let zero = _mm512_setzero_ps();
+        let half = _mm512_set1_ps(0.5);
+        let seen = _mm512_cmp_ps_mask::<_CMP_GE_OQ>(x, zero)
+            & _mm512_cmp_ps_mask::<_CMP_GE_OQ>(y, zero)
+            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(x, self.width)
+            & _mm512_cmp_ps_mask::<_CMP_LT_OQ>(y, self.height);
+        let w = _mm512_maskz_mov_ps(seen, w);
+        let (fx, fy) = (_mm512_sub_ps(x, half), _mm512_sub_ps(y, half));
+        const DOWN: i32 = _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC;
+        let (cf, rf) = (
+            _mm512_roundscale_ps::<DOWN>(fx),
+            _mm512_roundscale_ps::<DOWN>(fy),
+        );
+        let (tx, ty) = (_mm512_sub_ps(fx, cf), _mm512_sub_ps(fy, rf));
+        let border = _mm512_set1_epi32(-1);
+        let clamp = |i: __m512i, last: __m512i| _mm512_min_epi32(_mm512_max_epi32(i, border), last);
+        let c = clamp(_mm512_cvttps_epi32(cf), self.last_column);
+        let r = clamp(_mm512_cvttps_epi32(rf), self.last_row);
+        (
+            w,
+            _mm512_add_epi32(_mm512_mullo_epi32(r, self.stride), c),
+            tx,
+            ty,
+        )
+    }
+}
+
+/// [`blend_x8`] on sixteen lanes.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn blend_x16(a: __m512, b: __m512, d: __m512, e: __m512, tx: __m512, ty: __m512) -> __m512 {
+    use std::arch::x86_64::*;
+    let top = _mm512_add_ps(a, _mm512_mul_ps(tx, _mm512_sub_ps(b, a)));
+    let bottom = _mm512_add_ps(d, _mm512_mul_ps(tx, _mm512_sub_ps(e, d)));
+    _mm512_add_ps(top, _mm512_mul_ps(ty, _mm512_sub_ps(bottom, top)))
+}
+
+/// [`gather_bilinear_slopes`] for sixteen taps.
+///
+/// # Safety
+/// As [`gather_bilinear`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn gather_bilinear_slopes_x16(
+    data: *const f32,
+    below: *const f32,
+    i: __m512i,
+    tx: __m512,
+    ty: __m512,
+) -> (__m512, __m512, __m512) {
+    use std::arch::x86_64::*;
+    // SAFETY: as the caller's.
+    let (a, b, d, e) = unsafe { gather_corners_x16(data, below, i) };
+    let (upper, lower) = (_mm512_sub_ps(b, a), _mm512_sub_ps(e, d));
+    let top = _mm512_add_ps(a, _mm512_mul_ps(tx, upper));
+    let bottom = _mm512_add_ps(d, _mm512_mul_ps(tx, lower));
+    let gy = _mm512_sub_ps(bottom, top);
+    let value = _mm512_add_ps(top, _mm512_mul_ps(ty, gy));
+    let gx = _mm512_add_ps(upper, _mm512_mul_ps(ty, _mm512_sub_ps(lower, upper)));
+    (value, gx, gy)
+}
+
+/// [`SlopeLanesX8::add`]'s terms for sixteen taps, added to its lanes eight at a time in
+/// tap order.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512dq,avx2")]
+#[inline]
+fn add_slopes_x16(
+    acc: &mut SlopeLanesX8,
+    at: &PlacementX16,
+    floor: __m512,
+    w: __m512,
+    (value, gx, gy): (__m512, __m512, __m512),
+    (x, y): (__m512, __m512),
+) {
+    use std::arch::x86_64::*;
+    let sum = _mm512_mul_ps(w, _mm512_max_ps(value, floor));
+    let wm = _mm512_maskz_mov_ps(_mm512_cmp_ps_mask::<_CMP_GT_OQ>(value, floor), w);
+    let (wx, wy) = (_mm512_mul_ps(wm, gx), _mm512_mul_ps(wm, gy));
+    let lever = _mm512_sub_ps(
+        _mm512_mul_ps(wx, _mm512_sub_ps(y, at.y)),
+        _mm512_mul_ps(wy, _mm512_sub_ps(x, at.x)),
+    );
+    for (slot, terms) in [(0, sum), (4, w), (1, wx), (2, wy), (3, lever)] {
+        let a = &mut acc.acc[slot];
+        *a = _mm256_add_ps(*a, _mm512_castps512_ps256(terms));
+        *a = _mm256_add_ps(*a, _mm512_extractf32x8_ps::<1>(terms));
     }
 }
 
@@ -447,6 +817,105 @@ impl PlacementX8 {
         );
         (x, y, w)
     }
+}
+
+/// A [`Placement`] broadcast to sixteen lanes.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy)]
+struct PlacementX16 {
+    x: __m512,
+    y: __m512,
+    sin: __m512,
+    cos: __m512,
+}
+
+#[cfg(target_arch = "x86_64")]
+impl PlacementX16 {
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    fn new(at: Placement) -> Self {
+        use std::arch::x86_64::*;
+        Self {
+            x: _mm512_set1_ps(at.x),
+            y: _mm512_set1_ps(at.y),
+            sin: _mm512_set1_ps(at.sin),
+            cos: _mm512_set1_ps(at.cos),
+        }
+    }
+
+    /// [`PlacementX8::taps`] for taps k to k + 15.
+    ///
+    /// # Safety
+    /// k + 16 must not exceed the padded columns' length.
+    #[target_feature(enable = "avx512f")]
+    #[inline]
+    unsafe fn taps(self, taps: &Taps, k: usize) -> (__m512, __m512, __m512) {
+        use std::arch::x86_64::*;
+        // SAFETY: the caller keeps the sixteen loads inside the columns.
+        let (u, v, w) = unsafe {
+            (
+                _mm512_loadu_ps(taps.u.as_ptr().add(k)),
+                _mm512_loadu_ps(taps.v.as_ptr().add(k)),
+                _mm512_loadu_ps(taps.w.as_ptr().add(k)),
+            )
+        };
+        let x = _mm512_add_ps(
+            _mm512_add_ps(self.x, _mm512_mul_ps(u, self.cos)),
+            _mm512_mul_ps(v, self.sin),
+        );
+        let y = _mm512_add_ps(
+            _mm512_sub_ps(self.y, _mm512_mul_ps(u, self.sin)),
+            _mm512_mul_ps(v, self.cos),
+        );
+        (x, y, w)
+    }
+}
+
+/// Fewest taps summed sixteen at a time: the coarse search's blocks hold one to three groups
+/// of eight, too few to repay the sixteen-tap paths.
+const WIDE_ENOUGH: usize = 4 * LANES;
+
+/// Whether the sixteen-tap paths can run (checked once; the answer is cached).
+#[cfg(target_arch = "x86_64")]
+fn has_avx512() -> bool {
+    std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("avx512dq")
+}
+
+/// [`gather_corners`] for sixteen taps: each pair of neighbours one 64-bit element, eight
+/// per gather, then the lefts and rights picked out in tap order.
+///
+/// # Safety
+/// As [`gather_bilinear`].
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+unsafe fn gather_corners_x16(
+    data: *const f32,
+    below: *const f32,
+    i: __m512i,
+) -> (__m512, __m512, __m512, __m512) {
+    use std::arch::x86_64::*;
+    let (first, last) = (_mm512_castsi512_si256(i), _mm512_extracti64x4_epi64::<1>(i));
+    // SAFETY: the caller keeps every index's pair of pixels in both rows.
+    let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
+        (
+            _mm512_i32gather_pd::<4>(first, data as *const f64),
+            _mm512_i32gather_pd::<4>(last, data as *const f64),
+            _mm512_i32gather_pd::<4>(first, below as *const f64),
+            _mm512_i32gather_pd::<4>(last, below as *const f64),
+        )
+    };
+    let lefts = _mm512_setr_epi32(0, 2, 4, 6, 8, 10, 12, 14, 16, 18, 20, 22, 24, 26, 28, 30);
+    let rights = _mm512_setr_epi32(1, 3, 5, 7, 9, 11, 13, 15, 17, 19, 21, 23, 25, 27, 29, 31);
+    let pick = |low: std::arch::x86_64::__m512d, high, which| {
+        _mm512_permutex2var_ps(_mm512_castpd_ps(low), which, _mm512_castpd_ps(high))
+    };
+    (
+        pick(top_lo, top_hi, lefts),
+        pick(top_lo, top_hi, rights),
+        pick(bottom_lo, bottom_hi, lefts),
+        pick(bottom_lo, bottom_hi, rights),
+    )
 }
 
 /// The slope passes' five sums, lane by lane: score, its slopes in x, y and the angle, and
@@ -681,6 +1150,9 @@ unsafe fn gather_corners(
     i: __m256i,
 ) -> (__m256, __m256, __m256, __m256) {
     use std::arch::x86_64::*;
+    // Taps 0 1 4 5 gathered first and 2 3 6 7 second: the in-lane shuffles of `split_pairs`
+    // then leave them in tap order, with no cross-lane permute of the four results.
+    let i = _mm256_permutevar8x32_epi32(i, _mm256_setr_epi32(0, 1, 4, 5, 2, 3, 6, 7));
     let (first, last) = (_mm256_castsi256_si128(i), _mm256_extracti128_si256::<1>(i));
     // SAFETY: the caller keeps every index's pair of pixels in both rows.
     let (top_lo, top_hi, bottom_lo, bottom_hi) = unsafe {
@@ -696,19 +1168,17 @@ unsafe fn gather_corners(
     (a, b, d, e)
 }
 
-/// Pairs (left, right neighbour) of taps 0-3 and 4-7 as two vectors in tap order: the lefts
-/// and the rights.
+/// Pairs (left, right neighbour) of taps 0 1 4 5 (`low`) and 2 3 6 7 (`high`) as two vectors
+/// in tap order: the lefts and the rights.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn split_pairs(low: __m256d, high: __m256d) -> (__m256, __m256) {
     use std::arch::x86_64::*;
     let (low, high) = (_mm256_castpd_ps(low), _mm256_castpd_ps(high));
-    // Within each 128-bit half: taps 0 1 4 5 | 2 3 6 7; the 64-bit permute restores 0-7.
+    // Within each 128-bit half: the lefts (or rights) of low's two taps, then high's two.
     let left = _mm256_shuffle_ps::<0b10_00_10_00>(low, high);
     let right = _mm256_shuffle_ps::<0b11_01_11_01>(low, high);
-    let order =
-        |v: __m256| _mm256_castpd_ps(_mm256_permute4x64_pd::<0b11_01_10_00>(_mm256_castps_pd(v)));
-    (order(left), order(right))
+    (left, right)
 }
 
 /// The lanes' partial sums, combined pairwise in a fixed order.
@@ -827,8 +1297,9 @@ mod tests {
         taps
     }
 
-    /// The vector path and the scalar path give the same sum to the bit, so scores do not
-    /// depend on the processor; both agree with a plain sum of bilinear values.
+    /// The vector paths (eight and sixteen taps at a time) and the scalar path give the same
+    /// sums to the bit, so scores do not depend on the processor; they agree with a plain
+    /// sum of bilinear values.
     #[test]
     fn paths_agree() {
         let raw = noise_plane(64, 48);
@@ -848,6 +1319,15 @@ mod tests {
             if std::is_x86_feature_detected!("avx2") {
                 let vector = unsafe { taps.sum_inside_avx2(at, &plane, 0.3) };
                 assert_eq!(scalar.to_bits(), vector.to_bits());
+            }
+            #[cfg(target_arch = "x86_64")]
+            if has_avx512() {
+                let mut lanes = [0.0f32; LANES];
+                let all = 0..taps.padded_len();
+                unsafe { taps.accumulate_inside_avx512(at, &plane, 0.3, &mut lanes, all) };
+                assert_eq!(scalar.to_bits(), combine(lanes).to_bits());
+                let wide = unsafe { taps.slopes_inside_avx512(at, &plane, 0.3) };
+                assert_eq!(wide, taps.slopes_inside_scalar(at, &plane, 0.3));
             }
             let (plain, n) = taps.sum_near_edge_scalar(at, &plane, 0.3);
             assert!((plain - scalar).abs() < 1e-4 * (1.0 + plain.abs()));
@@ -896,6 +1376,13 @@ mod tests {
             if std::is_x86_feature_detected!("avx2") {
                 let (vs, vn) = unsafe { taps.sum_near_edge_avx2(at, &plane, 0.3) };
                 assert_eq!((s.to_bits(), n.to_bits()), (vs.to_bits(), vn.to_bits()));
+            }
+            #[cfg(target_arch = "x86_64")]
+            if has_avx512() {
+                let (vs, vn) = unsafe { taps.sum_near_edge_avx512(at, &plane, 0.3) };
+                assert_eq!((s.to_bits(), n.to_bits()), (vs.to_bits(), vn.to_bits()));
+                let wide = unsafe { taps.slopes_near_edge_avx512(at, &plane, 0.3) };
+                assert_eq!(wide, taps.slopes_near_edge_scalar(at, &plane, 0.3));
             }
             let (mut plain, mut plain_n) = (0.0f32, 0.0f32);
             for t in 0..taps.len {
