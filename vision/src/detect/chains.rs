@@ -133,12 +133,7 @@ pub fn repair(found: &mut Vec<Found>, maps: &mut Maps, cx: &Context) -> usize {
     let (length, width) = (cx.length, cx.width);
     let half = 0.5 * length;
     let factor = cx.levels.factor as usize;
-    let mut coarse = Coarse::of(&maps.free, factor);
-    let mut local = Local {
-        maps,
-        coarse: &mut coarse,
-        factor,
-    };
+    let mut local = Local::new(maps, factor);
     let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
     // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
     // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
@@ -378,11 +373,20 @@ impl Coarse {
 /// The maps with their coarse free darkness, changed in place window by window.
 struct Local<'m> {
     maps: &'m mut Maps,
-    coarse: &'m mut Coarse,
+    coarse: Coarse,
     factor: usize,
 }
 
-impl Local<'_> {
+impl<'m> Local<'m> {
+    fn new(maps: &'m mut Maps, factor: usize) -> Self {
+        let coarse = Coarse::of(&maps.free, factor);
+        Local {
+            maps,
+            coarse,
+            factor,
+        }
+    }
+
     /// The search levels reading the free darkness of the moment.
     fn levels<'s>(&'s self, cx: &'s Context) -> Levels<'s> {
         Levels {
@@ -421,7 +425,7 @@ impl Local<'_> {
                 }
                 let v = sum / ((r1 - r0) * (c1 - c0)) as f32;
                 let (cc, cr) = (cc as usize, cr as usize);
-                let coarse = &mut *self.coarse;
+                let coarse = &mut self.coarse;
                 coarse.plane.data[cr * coarse.plane.width + cc] = v;
                 coarse.bordered.set(cc, cr, v);
             }
@@ -529,10 +533,10 @@ fn speculate<I: Sync, R: Send>(
     let results: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
     let factor = local.factor;
     (0..workers).into_par_iter().for_each(|_| {
-        let (mut maps, mut coarse) = (local.maps.clone(), local.coarse.clone());
+        let mut maps = local.maps.clone();
         let mut copy = Local {
             maps: &mut maps,
-            coarse: &mut coarse,
+            coarse: local.coarse.clone(),
             factor,
         };
         loop {
@@ -618,12 +622,7 @@ pub fn repair_turned(
     let (length, width) = (cx.length, cx.width);
     let n = (length / width).round().max(2.0) as usize;
     let factor = cx.levels.factor as usize;
-    let mut coarse = Coarse::of(&maps.free, factor);
-    let mut local = Local {
-        maps,
-        coarse: &mut coarse,
-        factor,
-    };
+    let mut local = Local::new(maps, factor);
     let trial = Turned {
         n,
         half_u: 0.5 * (n as f64 * width).max(length),
@@ -831,12 +830,7 @@ pub fn repair_crowded(
     step: f64,
 ) -> usize {
     let factor = cx.levels.factor as usize;
-    let mut coarse = Coarse::of(&maps.free, factor);
-    let mut local = Local {
-        maps,
-        coarse: &mut coarse,
-        factor,
-    };
+    let mut local = Local::new(maps, factor);
     let trial = Crowded {
         reach: 1.5 * cx.length + 2.0 * cx.width + 4.0,
         offsets,
