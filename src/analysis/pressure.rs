@@ -34,12 +34,17 @@ pub struct JanssenFit {
 /// The longest screening length the fit searches, in silo widths.
 pub const JANSSEN_LAMBDA_MAX_OVER_W: f64 = 100.0;
 
+/// Whether a fitted lambda / W lies below the fit's longest screening length. At that bound
+/// the profile is still straight over the depth fitted (a deposit shallower than lambda), so
+/// lambda is only a lower bound and P_sat only the slope times that length.
+pub fn janssen_saturates(lambda_over_w: f64) -> bool {
+    lambda_over_w < 0.99 * JANSSEN_LAMBDA_MAX_OVER_W
+}
+
 impl JanssenFit {
-    /// The fit ran into its longest screening length: the profile is still straight over the
-    /// depth fitted (a deposit shallower than lambda), so lambda is only a lower bound and
-    /// P_sat only the slope times that length.
+    /// The profile saturates within the depth fitted ([`janssen_saturates`]).
     pub fn saturates(&self) -> bool {
-        self.lambda_over_w < 0.99 * JANSSEN_LAMBDA_MAX_OVER_W
+        janssen_saturates(self.lambda_over_w)
     }
 }
 

@@ -11,6 +11,7 @@ use super::detect::{Detected, accuracy};
 use super::layout::Layout;
 use super::plan::{GrainKindName, Plan, phi0_tag};
 use super::simulate::Filled;
+use crate::analysis::pressure::janssen_saturates;
 use crate::analysis::stats::MeanErr;
 use crate::analysis::summary::{EnsembleSummary, Summary};
 use crate::io::write_atomic;
@@ -196,9 +197,6 @@ pub fn build(
     }
 }
 
-/// lambda / W at the upper end of the Janssen fit's search range.
-const JANSSEN_BOUND: f64 = 0.99 * crate::analysis::pressure::JANSSEN_LAMBDA_MAX_OVER_W;
-
 fn pm(m: &MeanErr, digits: usize) -> String {
     if m.mean.is_finite() {
         format!("{:.*} ± {:.*}", digits, m.mean, digits, m.stderr)
@@ -329,7 +327,7 @@ fn markdown(r: &Report) -> String {
                 &mut s,
                 "lambda / W",
                 &|n| match (n.lambda_over_w, n.janssen_depth_over_w) {
-                    (Some(l), _) if l >= JANSSEN_BOUND => {
+                    (Some(l), _) if !janssen_saturates(l) => {
                         "≥ 100 (no saturation in this depth)".into()
                     }
                     (Some(l), Some(h)) => format!("{l:.2} (fitted to h/W ≤ {h:.2})"),
@@ -337,7 +335,7 @@ fn markdown(r: &Report) -> String {
                 },
             );
             line(&mut s, "P_sat (N/m)", &|n| match n.lambda_over_w {
-                Some(l) if l >= JANSSEN_BOUND => "— (not saturated)".into(),
+                Some(l) if !janssen_saturates(l) => "— (not saturated)".into(),
                 _ => num(n.p_sat_n_per_m, 3),
             });
             if let Some(d) = &row.detector {

@@ -41,6 +41,18 @@ pub const LATE_DRAG_BELOW: f64 = 1e-3;
 /// grain-steps) can be cut further without moving the deposit.
 pub const EARLY_DRAG_BELOW: f64 = 1e-2;
 
+/// dt = t_c / n, drag once kinetic / elastic has fallen below `below` after the last grain.
+const fn dragged_from(name: &'static str, what: &'static str, n: f64, below: f64) -> Setting {
+    Setting {
+        name,
+        what,
+        steps_per_collision: n,
+        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
+        relaxation_drag_below: below,
+        ..PLAIN
+    }
+}
+
 /// The setting every other is measured against.
 pub const REFERENCE: &str = "faithful";
 
@@ -151,30 +163,24 @@ pub const SETTINGS: [Setting; 22] = [
         12.0,
         None,
     ),
-    Setting {
-        name: "n12-latedrag",
-        what: "dt = t_c / 12, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
-        steps_per_collision: 12.0,
-        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
-        relaxation_drag_below: LATE_DRAG_BELOW,
-        ..PLAIN
-    },
-    Setting {
-        name: "n10-latedrag",
-        what: "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
-        steps_per_collision: 10.0,
-        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
-        relaxation_drag_below: LATE_DRAG_BELOW,
-        ..PLAIN
-    },
-    Setting {
-        name: "n10-earlydrag",
-        what: "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-2 x elastic",
-        steps_per_collision: 10.0,
-        relaxation_drag_per_s: RELAXATION_DRAG_PER_S,
-        relaxation_drag_below: EARLY_DRAG_BELOW,
-        ..PLAIN
-    },
+    dragged_from(
+        "n12-latedrag",
+        "dt = t_c / 12, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
+        12.0,
+        LATE_DRAG_BELOW,
+    ),
+    dragged_from(
+        "n10-latedrag",
+        "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-3 x elastic",
+        10.0,
+        LATE_DRAG_BELOW,
+    ),
+    dragged_from(
+        "n10-earlydrag",
+        "dt = t_c / 10, drag 200/s on touching grains once kinetic < 1e-2 x elastic",
+        10.0,
+        EARLY_DRAG_BELOW,
+    ),
     dragged(
         "n25-drift-drag",
         "n25-drag, and grains staying within 0.05 mm for 20 ms sleep (wake at 5 weights)",
