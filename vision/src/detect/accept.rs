@@ -265,6 +265,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             residual_step,
         );
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
+        chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
     }
     found
 }

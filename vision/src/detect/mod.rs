@@ -16,8 +16,9 @@
 //! 6. [`chains`]: rows of rods touching end to end that were fitted shifted along the row
 //!    (a stub of unexplained dark area at each end) are refitted with one rod more; where a
 //!    seed failed beside unexplained dark area, a neighbouring rod is refitted together with a
-//!    rod at the seed (a rod crowded out by its neighbour); and a rod fitted across rods lying
-//!    at right angles to it (their remainder unexplained beside it) is refitted as those rods.
+//!    rod at the seed (a rod crowded out by its neighbour); a rod fitted across rods lying
+//!    at right angles to it (their remainder unexplained beside it) is refitted as those rods;
+//!    and a rod accepted with a low agreement is fitted afresh over every angle.
 //!
 //! Photographs above [`TILE_PIXELS`] go through steps 1-5 tile by tile, so memory stays
 //! bounded whatever their size.
