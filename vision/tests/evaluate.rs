@@ -49,6 +49,23 @@ fn shifted_and_turned_detections_give_their_errors() {
 }
 
 #[test]
+fn turned_grains_are_told_from_imprecise_angles() {
+    let truth = rods();
+    // 97 rods 1 degree off, 3 fitted across their neighbours (80 degrees off): the RMS of
+    // all is theirs, that of the rest is the 1 degree.
+    let detections: Vec<Detection> = truth
+        .iter()
+        .enumerate()
+        .map(|(i, t)| detected(t, 0.0, if i < 3 { 80f64 } else { 1.0 }.to_radians()))
+        .collect();
+    let tally = score(&truth, &detections);
+    assert_eq!(tally.turned, 3);
+    let all = ((3.0 * 80f64.powi(2) + 97.0) / 100.0).sqrt();
+    assert!((tally.orientation_rms_deg() - all).abs() < 1e-9);
+    assert!((tally.unturned_orientation_rms_deg() - 1.0).abs() < 1e-9);
+}
+
+#[test]
 fn missed_and_false_detections_count() {
     let truth = rods();
     let mut detections: Vec<Detection> =
