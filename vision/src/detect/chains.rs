@@ -487,6 +487,24 @@ impl<'m> Local<'m> {
         }
         self.update_coarse(b);
     }
+
+    /// Takes rod `g` off the maps (as [`Local::unpaint`]) and returns the total its pose
+    /// scores on what is left: the figure a trial's fits must beat.
+    fn take_off(&mut self, found: &[Found], g: usize, cx: &Context) -> f64 {
+        self.unpaint(found, g, &[], cx);
+        let pose = found[g].pose;
+        f64::from(
+            cx.model
+                .score(pose, cx.levels.fine, &self.maps.free_bordered)
+                .total,
+        )
+    }
+
+    /// Paints a fit's pose within its box `b`, on both levels.
+    fn place(&mut self, pose: Pose, b: Window, cx: &Context) {
+        self.paint(pose, b, cx);
+        self.update_coarse(b);
+    }
 }
 
 /// How far (pixels, along x or y) from a fit's seed the taps of any pose it scores may read,
@@ -588,8 +606,7 @@ fn replay(
     local.unpaint(found, rod, &[], cx);
     for ft in fits {
         let b = local.box_of(ft.pose, cx.model);
-        local.paint(ft.pose, b, cx);
-        local.update_coarse(b);
+        local.place(ft.pose, b, cx);
         changed = changed.union(b);
     }
     changed.grown(cx.levels.factor as isize + 1)
@@ -751,12 +768,7 @@ impl Turned<'_> {
         let (s, c) = p.phi.sin_cos();
         let window = Window::around(p.x, p.y, self.reach, self.reach, &local.maps.free);
         let saved = local.save(window);
-        local.unpaint(found, g, &[], cx);
-        let old_total = f64::from(
-            cx.model
-                .score(p, cx.levels.fine, &local.maps.free_bordered)
-                .total,
-        );
+        let old_total = local.take_off(found, g, cx);
         let mut new_total = 0.0;
         let mut fitted = Vec::with_capacity(self.n);
         let turned = p.phi + std::f64::consts::FRAC_PI_2;
@@ -775,8 +787,7 @@ impl Turned<'_> {
                 break;
             }
             new_total += f64::from(ft.score.total);
-            local.paint(ft.pose, b, cx);
-            local.update_coarse(b);
+            local.place(ft.pose, b, cx);
             fitted.push(ft);
         }
         let kept = !(fitted.len() < self.n || new_total <= old_total);
@@ -817,16 +828,11 @@ pub fn repair_doubtful(
         let old = found[g].pose;
         let window = Window::around(old.x, old.y, reach, reach, &local.maps.free);
         let saved = local.save(window);
-        local.unpaint(found, g, &[], cx);
-        let old_total = cx
-            .model
-            .score(old, cx.levels.fine, &local.maps.free_bordered)
-            .total;
+        let old_total = local.take_off(found, g, cx);
         let ft = fit::fit(&local.levels(cx), (old.x, old.y), offsets, step, None);
         let b = local.box_of(ft.pose, cx.model);
-        if cx.passes(&ft, b, window) && ft.score.total > old_total {
-            local.paint(ft.pose, b, cx);
-            local.update_coarse(b);
+        if cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total {
+            local.place(ft.pose, b, cx);
             found[g] = cx.found(&ft);
             repaired += 1;
         } else {
@@ -1005,12 +1011,7 @@ impl Crowded<'_> {
         let window = Window::around(seed.0, seed.1, self.reach, self.reach, &local.maps.free);
         let saved = local.save(window);
         let old = found[h].pose;
-        local.unpaint(found, h, &[], cx);
-        let old_total = f64::from(
-            cx.model
-                .score(old, cx.levels.fine, &local.maps.free_bordered)
-                .total,
-        );
+        let old_total = local.take_off(found, h, cx);
         let mut fitted = Vec::with_capacity(2);
         let mut new_total = 0.0;
         // The rod at the seed, then the rod taken off: refined from its pose, or when
@@ -1036,8 +1037,7 @@ impl Crowded<'_> {
                 continue;
             }
             new_total += f64::from(ft.score.total);
-            local.paint(ft.pose, b, cx);
-            local.update_coarse(b);
+            local.place(ft.pose, b, cx);
             fitted.push(ft);
         }
         let kept = !(fitted.len() < 2 || new_total <= old_total);
