@@ -153,11 +153,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
         };
         println!(
-            "seed {seed}: {} grains, {:.3} s simulated in {} steps, {:.1} s wall, packing fraction {:.4}, {} -> {}",
+            "seed {seed}: {} grains, {:.3} s simulated in {} steps, {:.1} s wall ({:.2e} grain-steps/s), packing fraction {:.4}, {} -> {}",
             r.grains,
             r.simulated_time_s,
             r.steps,
             r.wall_time_s,
+            r.grain_steps as f64 / r.wall_time_s,
             r.packing_fraction,
             if r.relaxed { "relaxed" } else { "NOT relaxed" },
             dir.display()

@@ -18,6 +18,10 @@ pub struct RunRecord {
     pub wall_grains: usize,
     pub time_step_s: f64,
     pub steps: u64,
+    /// Grains in the silo summed over the steps (the engine benchmark's unit of work); 0 in
+    /// records written before it was counted.
+    #[serde(default)]
+    pub grain_steps: u64,
     pub simulated_time_s: f64,
     /// Simulated time of the last insertion (s).
     pub fill_time_s: f64,

@@ -306,6 +306,7 @@ pub fn fill_with(
         wall_grains: silo.wall_of.len(),
         time_step_s: dt,
         steps: world.steps(),
+        grain_steps: world.grain_steps(),
         simulated_time_s: world.time(),
         fill_time_s: st.last_insertion,
         relaxed,

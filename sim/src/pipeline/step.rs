@@ -39,6 +39,7 @@ impl World {
         self.compute_forces(Some(dt / 2.0));
         self.time += dt;
         self.steps += 1;
+        self.grain_steps += self.grains.len() as u64;
         Ok(())
     }
 

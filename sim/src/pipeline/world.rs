@@ -81,6 +81,9 @@ pub struct World {
     pub(crate) dt: f64,
     pub(crate) time: f64,
     pub(crate) steps: u64,
+    /// Grains in the world (fixed ones too), summed over the steps: the work a run did,
+    /// whatever its grain count at each step.
+    pub(crate) grain_steps: u64,
     /// Slots per grain in the placed arrays: the most core vertices of any shape.
     pub(crate) stride: usize,
     pub(crate) placed_vertices: Vec<Vec2>,
@@ -158,6 +161,7 @@ impl World {
             dt: settings.time_step.unwrap_or(f64::INFINITY),
             time: 0.0,
             steps: 0,
+            grain_steps: 0,
             stride: 0,
             placed_vertices: Vec::new(),
             placed_directions: Vec::new(),
@@ -401,6 +405,12 @@ impl World {
 
     pub fn steps(&self) -> u64 {
         self.steps
+    }
+
+    /// Grains in the world, summed over the steps. Over a run's wall time it gives the run's
+    /// throughput in the engine benchmark's unit (grain-steps per second).
+    pub fn grain_steps(&self) -> u64 {
+        self.grain_steps
     }
 
     /// Grain pairs and grain-wall pairs in the Verlet lists.

@@ -13,3 +13,4 @@ mod inputs;
 mod resting;
 mod sleeping;
 mod slope;
+mod work;
