@@ -200,6 +200,22 @@ fn check_report(out: &Path) -> Value {
         );
         assert!(centre < max_centre, "{name}: centre RMS {centre} mm");
         assert!(angle < max_angle, "{name}: orientation RMS {angle} deg");
+        // The grains turned by more than 10 degrees are the largest errors: without them the
+        // RMS can only fall.
+        let turned = number(&d["turned"], "turned grains");
+        let rest = number(&d["unturned_orientation_rms_deg"], "RMS of the rest");
+        assert!(
+            turned <= number(&d["true_grains"], "true grains"),
+            "{name}: {turned} turned"
+        );
+        assert!(
+            rest <= angle * (1.0 + 1e-9),
+            "{name}: RMS of the rest {rest} > RMS of all {angle}"
+        );
+        assert!(
+            turned > 0.0 || rest == angle,
+            "{name}: none turned, yet {rest} != {angle}"
+        );
     }
     report
 }
