@@ -817,12 +817,13 @@ const DOUBTFUL: f64 = 0.75;
 /// angle against the maps as they are now, its neighbours painted; the new fit is kept when
 /// it passes the acceptance and scores more than the old pose on the same maps.
 ///
-/// With rods turned the same way within a length of it, the doubtful rod may be one of two
-/// fitted across the three rods really there (lab, rod3 at 10 px/mm: two rods at 62
-/// degrees, agreements 0.70 and 0.94, over three lying face to face), the other holding it in
-/// place. They are first taken off together and fitted afresh at their centres, with one rod
-/// more where a rod's worth of their place is left unexplained ([`refit_together`]); only
-/// when that is not kept is the doubtful rod refitted alone.
+/// With rods turned the same way within a length of it, and a rod turned otherwise within
+/// 1.5 lengths (the rows around), the doubtful rod may be one of two fitted across the three
+/// rods really there (lab, rod3 at 10 px/mm: two rods at 62 degrees, agreements 0.70 and
+/// 0.94, over three lying face to face), the other holding it in place. They are first taken
+/// off together and fitted afresh ([`refit_together`]), once at the rows' angle and once at
+/// any, and the trial that scores more is kept; only when neither is kept is the doubtful rod
+/// refitted alone.
 ///
 /// So few rods are doubtful (about one in a hundred) that the trials run one after another.
 pub fn repair_doubtful(
@@ -918,17 +919,18 @@ pub fn repair_doubtful(
 }
 
 /// Rods turned by less than this (degrees) from a doubtful rod, and within a length of it,
-/// are refitted with it when it does not come right alone.
+/// are refitted together with it; a rod turned by more is one of the rows around.
 const PARALLEL_DEG: f64 = 15.0;
 
 /// The trial of [`repair_doubtful`] for a doubtful rod and the rods turned like it near it
 /// (`rods`, the doubtful one first): all are taken off; a rod is fitted afresh at each of
 /// their centres, at the angle `axis` or over every angle, and up to two more at the middle
 /// of what they leave unexplained while that is at least a third of a rod (each agreeing as
-/// clearly as [`repair_crowded`] asks of an added rod). Kept, with the maps changed, when at least as many rods pass the acceptance
-/// and they score more than the old poses did on the maps without them (returned with their
-/// total; the maps then changed, unless `undo`); otherwise the maps are as they were. `search` is the fits' offsets and first step, and the half side of the
-/// window the trial may change around each rod.
+/// clearly as [`repair_crowded`] asks of an added rod). Kept when at least as many rods pass
+/// the acceptance and they score more than the old poses did on the maps without them:
+/// returned with their total, the maps changed unless `undo`. Otherwise the maps are as
+/// they were. `search` is the fits' offsets and first step, and the half side of the window
+/// the trial may change around each rod.
 fn refit_together(
     local: &mut Local,
     found: &[Found],
