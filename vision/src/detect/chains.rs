@@ -90,6 +90,12 @@ impl Context<'_> {
             && window.holds(b)
     }
 
+    /// Half side of the window a trial about a rod may change: wider than any outline its
+    /// fits can reach from seeds and offsets about the rod.
+    fn trial_reach(&self) -> f64 {
+        1.5 * self.length + 2.0 * self.width + 4.0
+    }
+
     /// The grain a kept fit becomes.
     fn found(&self, ft: &fit::Fitted) -> Found {
         Found {
@@ -646,8 +652,7 @@ pub fn repair_turned(
         half_u: 0.5 * (n as f64 * width).max(length),
         half_v: 0.5 * length,
         least: length * width / 3.0,
-        // Wider than any outline the n fits can reach from seeds this close to the rod.
-        reach: 1.5 * length + 2.0 * width + 4.0,
+        reach: cx.trial_reach(),
         offsets,
         step,
         // The n seeds lie along the rod, at most (n - 1) / 2 widths from its centre.
@@ -827,8 +832,7 @@ pub fn repair_doubtful(
 ) -> usize {
     let factor = cx.levels.factor as usize;
     let mut local = Local::new(maps, factor);
-    // Wider than any outline a fit can reach from offsets around the rod's centre.
-    let reach = 1.5 * cx.length + 2.0 * cx.width + 4.0;
+    let reach = cx.trial_reach();
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
     for g in 0..found.len() {
@@ -1048,7 +1052,7 @@ pub fn repair_crowded(
     let factor = cx.levels.factor as usize;
     let mut local = Local::new(maps, factor);
     let trial = Crowded {
-        reach: 1.5 * cx.length + 2.0 * cx.width + 4.0,
+        reach: cx.trial_reach(),
         offsets,
         step,
         reads: fit_reads(cx, offsets, step),
