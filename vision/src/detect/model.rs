@@ -329,6 +329,14 @@ impl Model {
         .fold(0.0, f32::max)
     }
 
+    /// Whether the point (pixels of this level) lies inside the pose's outline.
+    pub fn covers(&self, pose: Pose, point: (f64, f64)) -> bool {
+        let (s, c) = pose.phi.sin_cos();
+        let (dx, dy) = (point.0 - pose.x, point.1 - pose.y);
+        let (u, v) = (dx * c - dy * s, dx * s + dy * c);
+        self.geometry.signed_distance(u as f32, v as f32) < 0.0
+    }
+
     /// Half extents (columns, rows) of the axis-aligned box that holds the pose and its ring.
     pub fn extent(&self, phi: f64) -> (f32, f32) {
         let g = &self.geometry;
