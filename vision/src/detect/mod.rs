@@ -30,6 +30,7 @@ mod model;
 mod nearby;
 mod normalise;
 mod plane;
+mod regions;
 mod ridges;
 mod scale;
 mod seeds;

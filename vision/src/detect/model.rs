@@ -531,6 +531,12 @@ impl Model {
         let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
+        let g = &self.geometry;
+        // A hundredth of a pixel more, for the rounding of the distance.
+        let (reach_u, reach_v) = (
+            g.half_length + 0.5 * g.soft + 0.01,
+            g.half_width + 0.5 * g.soft + 0.01,
+        );
         let c0 = ((px - ex).floor() as isize).max(0).max(clip.0);
         let c1 = ((px + ex).ceil() as isize)
             .min(explained.width as isize - 1)
@@ -545,6 +551,11 @@ impl Model {
                 let dx = c as f32 + 0.5 - px;
                 let u = dx * cos - dy * sin;
                 let v = dx * sin + dy * cos;
+                // Farther out than half the soft edge along either axis the coverage is 0
+                // (the signed distance is at least |u| - half length): no root to take.
+                if u.abs() > reach_u || v.abs() > reach_v {
+                    continue;
+                }
                 let cov = self.geometry.coverage(u, v);
                 if cov > 0.0 {
                     let i = r as usize * explained.width + c as usize;

@@ -52,13 +52,63 @@ pub fn darkness(grey: &Plane, block: usize) -> Darkness {
 /// Typical normalised grey of grain interiors: the median of pixels clearly below the field.
 /// Falls back to black when nothing is dark (an empty photograph).
 fn grain_level(ratio: &Plane) -> f32 {
-    let mut dark: Vec<f32> = ratio.data.iter().copied().filter(|&v| v < 0.75).collect();
-    if dark.len() < 16 {
-        return 0.0;
+    let dark = |v: &&f32| **v < 0.75;
+    match median(&ratio.data, dark) {
+        Some(m) => m.clamp(0.0, 0.7),
+        None => 0.0,
     }
-    let mid = dark.len() / 2;
-    let (_, m, _) = dark.select_nth_unstable_by(mid, |a, b| a.total_cmp(b));
-    m.clamp(0.0, 0.7)
+}
+
+/// The element of rank n / 2 (as `select_nth_unstable` gives it) of the `n` values that pass
+/// `keep`, or None for fewer than 16. In parallel and exact: a histogram of the values' top
+/// 16 bits (in an order-preserving key) finds the bin that holds that rank, and only the
+/// values in that bin are selected among.
+fn median(values: &[f32], keep: impl Fn(&&f32) -> bool + Sync) -> Option<f32> {
+    // Orders like f32::total_cmp.
+    let key = |v: f32| {
+        let b = v.to_bits();
+        if b >> 31 == 1 { !b } else { b | 0x8000_0000 }
+    };
+    const BINS: usize = 1 << 16;
+    let histogram = values
+        .par_chunks(1 << 16)
+        .map(|chunk| {
+            let mut h = vec![0u32; BINS];
+            for v in chunk.iter().filter(&keep) {
+                h[(key(*v) >> 16) as usize] += 1;
+            }
+            h
+        })
+        .reduce(
+            || vec![0u32; BINS],
+            |mut a, b| {
+                a.iter_mut().zip(&b).for_each(|(x, y)| *x += y);
+                a
+            },
+        );
+    let n: usize = histogram.iter().map(|&c| c as usize).sum();
+    if n < 16 {
+        return None;
+    }
+    let mut rank = n / 2;
+    let bin = histogram
+        .iter()
+        .position(|&c| {
+            if rank < c as usize {
+                true
+            } else {
+                rank -= c as usize;
+                false
+            }
+        })
+        .expect("the rank lies in some bin");
+    let mut in_bin: Vec<f32> = values
+        .par_iter()
+        .filter(|v| keep(v) && (key(**v) >> 16) as usize == bin)
+        .copied()
+        .collect();
+    let (_, m, _) = in_bin.select_nth_unstable_by(rank, |a, b| a.total_cmp(b));
+    Some(*m)
 }
 
 /// The bright field: per cell the brightest (blurred) level, cells with no light filled from
@@ -173,4 +223,46 @@ fn interpolate(cells: &[f32], bw: usize, bh: usize, block: usize, w: usize, h: u
             }
         });
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What `grain_level` computed before the histogram: select among the kept values.
+    fn selected(values: &[f32], limit: f32) -> Option<f32> {
+        let mut kept: Vec<f32> = values.iter().copied().filter(|&v| v < limit).collect();
+        if kept.len() < 16 {
+            return None;
+        }
+        let mid = kept.len() / 2;
+        Some(*kept.select_nth_unstable_by(mid, |a, b| a.total_cmp(b)).1)
+    }
+
+    #[test]
+    fn median_is_the_selected_element_with_ties_zeros_and_few_values() {
+        let mut s = 12345u64;
+        let mut next = || {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (s >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let spread: Vec<f32> = (0..300_001).map(|_| 1.2 * next()).collect();
+        // Quantised to 1/256: many ties, and runs of exact zeros.
+        let ties: Vec<f32> = (0..200_000)
+            .map(|_| ((next() - 0.3).max(0.0) * 256.0).floor() / 256.0)
+            .collect();
+        let few: Vec<f32> = (0..40).map(|k| k as f32 / 40.0).collect();
+        for values in [&spread, &ties, &few] {
+            for limit in [0.75, 0.02, 2.0] {
+                assert_eq!(
+                    median(values, |v: &&f32| **v < limit),
+                    selected(values, limit),
+                    "limit {limit}, {} values",
+                    values.len()
+                );
+            }
+        }
+    }
 }

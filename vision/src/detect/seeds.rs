@@ -3,9 +3,10 @@
 
 use image::{GrayImage, Luma};
 use imageproc::distance_transform::euclidean_squared_distance_transform;
-use imageproc::region_labelling::{Connectivity, connected_components};
+use rayon::prelude::*;
 
 use super::plane::Plane;
+use super::regions;
 
 /// A bright blob enclosed by dark: a nut's hole, or light between grains.
 #[derive(Clone, Copy, Debug)]
@@ -21,49 +22,15 @@ pub struct BrightBlob {
 /// Bright blobs (darkness < 0.5) that do not touch the photograph's edge.
 pub fn bright_blobs(dark: &Plane) -> Vec<BrightBlob> {
     let (w, h) = (dark.width, dark.height);
-    let mask = GrayImage::from_fn(w as u32, h as u32, |c, r| {
-        Luma([u8::from(dark.at(c as usize, r as usize) < 0.5)])
-    });
-    let labels = connected_components(&mask, Connectivity::Eight, Luma([0u8]));
-    let n = labels.pixels().map(|p| p[0]).max().unwrap_or(0) as usize;
-    // Per label: count, sum x, sum y, bounding box, touches edge.
-    let mut acc = vec![
-        (
-            0.0f64,
-            0.0f64,
-            0.0f64,
-            usize::MAX,
-            0usize,
-            usize::MAX,
-            0usize,
-            false
-        );
-        n + 1
-    ];
-    for (c, r, p) in labels.enumerate_pixels() {
-        let l = p[0] as usize;
-        if l == 0 {
-            continue;
-        }
-        let (c, r) = (c as usize, r as usize);
-        let a = &mut acc[l];
-        a.0 += 1.0;
-        a.1 += c as f64 + 0.5;
-        a.2 += r as f64 + 0.5;
-        a.3 = a.3.min(c);
-        a.4 = a.4.max(c);
-        a.5 = a.5.min(r);
-        a.6 = a.6.max(r);
-        a.7 |= c == 0 || r == 0 || c + 1 == w || r + 1 == h;
-    }
-    acc.iter()
-        .skip(1)
-        .filter(|a| a.0 > 0.0 && !a.7)
-        .map(|a| BrightBlob {
-            x: a.1 / a.0,
-            y: a.2 / a.0,
-            area: a.0,
-            extent: ((a.4 - a.3 + 1).max(a.6 - a.5 + 1)) as f64,
+    let mask: Vec<bool> = dark.data.par_iter().map(|&d| d < 0.5).collect();
+    regions::regions(&mask, w, h)
+        .into_iter()
+        .filter(|b| !b.touches_edge(w, h))
+        .map(|b| BrightBlob {
+            x: b.sum_x / b.count,
+            y: b.sum_y / b.count,
+            area: b.count,
+            extent: ((b.max_col - b.min_col + 1).max(b.max_row - b.min_row + 1)) as f64,
         })
         .collect()
 }
