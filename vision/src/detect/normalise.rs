@@ -204,6 +204,14 @@ fn fill_from_neighbours(cells: &mut [f32], valid: &mut [bool], bw: usize, bh: us
 fn interpolate(cells: &[f32], bw: usize, bh: usize, block: usize, w: usize, h: usize) -> Plane {
     let mut out = Plane::new(w, h, 0.0);
     let b = block as f32;
+    // The columns' cells and weights, the same on every row.
+    let columns: Vec<(usize, usize, f32)> = (0..w)
+        .map(|c| {
+            let fx = ((c as f32 + 0.5) / b - 0.5).clamp(0.0, (bw - 1) as f32);
+            let x0 = fx.floor() as usize;
+            (x0, (x0 + 1).min(bw - 1), fx - x0 as f32)
+        })
+        .collect();
     out.data
         .par_chunks_mut(w)
         .enumerate()
@@ -212,11 +220,7 @@ fn interpolate(cells: &[f32], bw: usize, bh: usize, block: usize, w: usize, h: u
             let y0 = fy.floor() as usize;
             let y1 = (y0 + 1).min(bh - 1);
             let ty = fy - y0 as f32;
-            for (c, o) in line.iter_mut().enumerate() {
-                let fx = ((c as f32 + 0.5) / b - 0.5).clamp(0.0, (bw - 1) as f32);
-                let x0 = fx.floor() as usize;
-                let x1 = (x0 + 1).min(bw - 1);
-                let tx = fx - x0 as f32;
+            for (o, &(x0, x1, tx)) in line.iter_mut().zip(&columns) {
                 let top = cells[y0 * bw + x0] * (1.0 - tx) + cells[y0 * bw + x1] * tx;
                 let bottom = cells[y1 * bw + x0] * (1.0 - tx) + cells[y1 * bw + x1] * tx;
                 *o = top * (1.0 - ty) + bottom * ty;

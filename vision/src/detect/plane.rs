@@ -117,6 +117,18 @@ impl Plane {
     }
 }
 
+/// The eight neighbours of a pixel, as (column, row) offsets, in raster order.
+pub const NEIGHBOURS: [(isize, isize); 8] = [
+    (-1, -1),
+    (0, -1),
+    (1, -1),
+    (-1, 0),
+    (1, 0),
+    (-1, 1),
+    (0, 1),
+    (1, 1),
+];
+
 /// A plane with a border of one pixel repeating its edge, what the tap sums read: a pixel's
 /// right and lower neighbours are always there (read as one pair), and a neighbour index
 /// clamped onto the border reads what clamping it onto the plane would.

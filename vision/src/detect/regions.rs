@@ -217,6 +217,7 @@ pub fn regions(mask: &[bool], width: usize, height: usize) -> Vec<Region> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::plane::NEIGHBOURS;
 
     /// Regions by flood fill from each unvisited pixel in raster order: slow and plain.
     /// (imageproc's `connected_components`, the other reference to hand, panics on a
@@ -236,16 +237,7 @@ mod tests {
                 if i != start {
                     region.absorb(&Region::at(c as usize, r as usize, width));
                 }
-                for (dc, dr) in [
-                    (-1, -1),
-                    (0, -1),
-                    (1, -1),
-                    (-1, 0),
-                    (1, 0),
-                    (-1, 1),
-                    (0, 1),
-                    (1, 1),
-                ] {
+                for (dc, dr) in NEIGHBOURS {
                     let (nc, nr) = (c + dc, r + dr);
                     if nc < 0 || nr < 0 || nc >= width as isize || nr >= height as isize {
                         continue;

@@ -4,7 +4,7 @@
 use image::{GrayImage, Luma};
 use imageproc::distance_transform::euclidean_squared_distance_transform;
 
-use super::plane::Plane;
+use super::plane::{NEIGHBOURS, Plane};
 use super::seeds::BrightBlob;
 use crate::GrainShape;
 
@@ -89,17 +89,8 @@ fn ridge_half_thicknesses(dark: &Plane) -> Vec<f64> {
             }
             // Ridge: no neighbour deeper (plateaus along a rod's axis count).
             let mut ridge = true;
-            for (dc, dr) in [
-                (-1i32, -1i32),
-                (0, -1),
-                (1, -1),
-                (-1, 0),
-                (1, 0),
-                (-1, 1),
-                (0, 1),
-                (1, 1),
-            ] {
-                if depth.get_pixel((c as i32 + dc) as u32, (r as i32 + dr) as u32)[0] > d {
+            for (dc, dr) in NEIGHBOURS {
+                if depth.get_pixel((c as isize + dc) as u32, (r as isize + dr) as u32)[0] > d {
                     ridge = false;
                     break;
                 }

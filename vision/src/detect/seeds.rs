@@ -1,11 +1,11 @@
 //! Where to try a grain: the bright holes of nuts (strong centre cues), and the deepest points
 //! of the dark area no accepted grain explains yet.
 
-use image::{GrayImage, Luma};
+use image::GrayImage;
 use imageproc::distance_transform::euclidean_squared_distance_transform;
 use rayon::prelude::*;
 
-use super::plane::Plane;
+use super::plane::{NEIGHBOURS, Plane};
 use super::regions;
 
 /// A bright blob enclosed by dark: a nut's hole, or light between grains.
@@ -57,44 +57,36 @@ pub fn residual_seeds(
 ) -> Vec<(f64, f64)> {
     let (w, h) = (dark.width, dark.height);
     // Foreground of the transform = everything that is NOT residual dark area.
-    let field = GrayImage::from_fn(w as u32, h as u32, |c, r| {
-        let i = r as usize * w + c as usize;
-        Luma([if dark.data[i] * (1.0 - explained.data[i]) > 0.5 {
-            0
-        } else {
-            255
-        }])
-    });
+    let mask: Vec<u8> = dark
+        .data
+        .par_iter()
+        .zip(explained.data.par_iter())
+        .map(|(&d, &e)| if d * (1.0 - e) > 0.5 { 0 } else { 255 })
+        .collect();
+    let field = GrayImage::from_raw(w as u32, h as u32, mask).expect("one byte per pixel");
     let depth = euclidean_squared_distance_transform(&field);
     let min2 = min_depth * min_depth;
-    let mut peaks = Vec::new();
-    for r in 0..h {
-        for c in 0..w {
-            let d = depth.get_pixel(c as u32, r as u32)[0];
-            if d < min2 {
-                continue;
-            }
-            let mut is_max = true;
-            'n: for dr in -1isize..=1 {
-                for dc in -1isize..=1 {
-                    let (rr, cc) = (r as isize + dr, c as isize + dc);
-                    if (dr, dc) != (0, 0)
-                        && rr >= 0
+    let at = |c: usize, r: usize| depth.get_pixel(c as u32, r as u32)[0];
+    let mut peaks: Vec<(f64, usize, usize)> = (0..h)
+        .into_par_iter()
+        .flat_map_iter(|r| {
+            (0..w).filter_map(move |c| {
+                let d = at(c, r);
+                if d < min2 {
+                    return None;
+                }
+                let deeper = NEIGHBOURS.iter().any(|&(dc, dr)| {
+                    let (cc, rr) = (c as isize + dc, r as isize + dr);
+                    rr >= 0
                         && cc >= 0
                         && (rr as usize) < h
                         && (cc as usize) < w
-                        && depth.get_pixel(cc as u32, rr as u32)[0] > d
-                    {
-                        is_max = false;
-                        break 'n;
-                    }
-                }
-            }
-            if is_max {
-                peaks.push((d, c, r));
-            }
-        }
-    }
+                        && at(cc as usize, rr as usize) > d
+                });
+                (!deeper).then_some((d, c, r))
+            })
+        })
+        .collect();
     peaks.sort_by(|a, b| b.0.total_cmp(&a.0).then((a.2, a.1).cmp(&(b.2, b.1))));
     let mut kept: Vec<(f64, f64)> = Vec::new();
     let s2 = spacing * spacing;
