@@ -603,6 +603,75 @@ mod tests {
         plane
     }
 
+    /// Painting skips only pixels the outline does not cover: the maps are those of
+    /// painting every pixel of the box, to the bit, at every angle and at the edges.
+    #[test]
+    fn painting_skips_no_covered_pixel() {
+        let dark = patchy_plane(90, 70);
+        for shape in [
+            GrainShape::nut(6.9e-3),
+            GrainShape::Rod {
+                length: 8.9e-3,
+                width: 3e-3,
+            },
+        ] {
+            let model = Model::new(shape, 3.3e3);
+            let (mut explained, mut free, mut bordered) =
+                (Plane::new(90, 70, 0.0), dark.clone(), Bordered::new(&dark));
+            let (mut want_e, mut want_f, mut want_b) =
+                (explained.clone(), free.clone(), bordered.clone());
+            for k in 0..60 {
+                let pose = Pose {
+                    x: -5.0 + (k % 13) as f64 * 8.1,
+                    y: -4.0 + (k % 7) as f64 * 11.3,
+                    phi: k as f64 * 0.173,
+                };
+                model.paint(pose, &dark, &mut explained, &mut free, &mut bordered);
+                let (s, c) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
+                for r in 0..70 {
+                    for col in 0..90 {
+                        let dx = col as f32 + 0.5 - pose.x as f32;
+                        let dy = r as f32 + 0.5 - pose.y as f32;
+                        let cov = model.geometry.coverage(dx * c - dy * s, dx * s + dy * c);
+                        if cov > 0.0 {
+                            let i = r * 90 + col;
+                            want_e.data[i] = (want_e.data[i] + cov).min(1.0);
+                            want_f.data[i] = dark.data[i] * (1.0 - want_e.data[i]);
+                            want_b.set(col, r, want_f.data[i]);
+                        }
+                    }
+                }
+            }
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&explained.data), bits(&want_e.data));
+            assert_eq!(bits(&free.data), bits(&want_f.data));
+            assert_eq!(bits(&bordered.data), bits(&want_b.data));
+            assert!(explained.data.iter().any(|&e| e > 0.0 && e < 1.0));
+        }
+    }
+
+    /// A point lies inside an outline when it is inside the turned rectangle.
+    #[test]
+    fn covers_the_points_inside_the_outline_only() {
+        let model = Model::new(
+            GrainShape::Rod {
+                length: 9e-3,
+                width: 3e-3,
+            },
+            1e3,
+        );
+        // The axis points along (cos phi, -sin phi): at 90 degrees, up the image.
+        let pose = Pose {
+            x: 20.0,
+            y: 20.0,
+            phi: std::f64::consts::FRAC_PI_2,
+        };
+        assert!(model.covers(pose, (20.0, 24.0)));
+        assert!(model.covers(pose, (21.2, 16.0)));
+        assert!(!model.covers(pose, (24.0, 20.0)));
+        assert!(!model.covers(pose, (20.0, 25.0)));
+    }
+
     /// A pose given up on scores below the threshold; a pose kept scores what `score` gives,
     /// to the bit, so the coarse search's finalists do not depend on what was given up.
     #[test]
