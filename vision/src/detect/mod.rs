@@ -35,6 +35,8 @@ mod ridges;
 mod scale;
 mod seeds;
 mod taps;
+#[cfg(test)]
+mod testing;
 
 use image::{DynamicImage, GenericImageView};
 

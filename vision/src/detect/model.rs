@@ -585,17 +585,15 @@ impl Model {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::testing::Lcg;
 
     /// A darkness with grain-sized dark patches and noise, in [0, 1] as the detector's are.
     fn patchy_plane(width: usize, height: usize) -> Plane {
-        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut rng = Lcg(0x2545_f491_4f6c_dd1d);
         let mut plane = Plane::new(width, height, 0.0);
         for r in 0..height {
             for c in 0..width {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                let noise = (state >> 40) as f32 / (1u64 << 24) as f32;
+                let noise = rng.unit_f32();
                 let patch = ((c / 13 + r / 7) % 3 != 0) as u8 as f32;
                 plane.data[r * width + c] = (0.8 * patch + 0.2 * noise).clamp(0.0, 1.0);
             }

@@ -58,18 +58,14 @@ impl Nearby {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::testing::Lcg;
 
     /// The grid answers as a scan of every point does, for distances below, at and above
     /// the bin side, and for points on bin edges and at negative coordinates.
     #[test]
     fn answers_as_a_scan_does() {
-        let mut state = 0x51_7cc1_b727_220au64;
-        let mut next = || {
-            state = state
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = Lcg(0x51_7cc1_b727_220a);
+        let mut next = || rng.unit_f64();
         let points: Vec<(f64, f64)> = (0..300)
             .map(|k| {
                 if k % 10 == 0 {

@@ -232,6 +232,7 @@ fn interpolate(cells: &[f32], bw: usize, bh: usize, block: usize, w: usize, h: u
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::testing::Lcg;
 
     /// What `grain_level` computed before the histogram: select among the kept values.
     fn selected(values: &[f32], limit: f32) -> Option<f32> {
@@ -245,13 +246,8 @@ mod tests {
 
     #[test]
     fn median_is_the_selected_element_with_ties_zeros_and_few_values() {
-        let mut s = 12345u64;
-        let mut next = || {
-            s = s
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (s >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = Lcg(12345);
+        let mut next = || rng.unit_f32();
         let spread: Vec<f32> = (0..300_001).map(|_| 1.2 * next()).collect();
         // Quantised to 1/256: many ties, and runs of exact zeros.
         let ties: Vec<f32> = (0..200_000)

@@ -218,6 +218,7 @@ pub fn regions(mask: &[bool], width: usize, height: usize) -> Vec<Region> {
 mod tests {
     use super::*;
     use crate::detect::plane::NEIGHBOURS;
+    use crate::detect::testing::Lcg;
 
     /// Regions by flood fill from each unvisited pixel in raster order: slow and plain.
     /// (imageproc's `connected_components`, the other reference to hand, panics on a
@@ -254,19 +255,11 @@ mod tests {
         out
     }
 
-    /// A deterministic pseudo-random mask of density `p` (a small LCG: no test dependency).
+    /// A deterministic pseudo-random mask of density `p`.
     fn mask(width: usize, height: usize, p: f64, seed: u64) -> Vec<bool> {
-        let mut s = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (0..width * height)
-            .map(|_| {
-                s = s
-                    .wrapping_mul(6364136223846793005)
-                    .wrapping_add(1442695040888963407);
-                ((s >> 11) as f64 / (1u64 << 53) as f64) < p
-            })
-            .collect()
+        let mut rng = Lcg(seed);
+        rng.next_u64();
+        (0..width * height).map(|_| rng.unit_f64() < p).collect()
     }
 
     #[test]

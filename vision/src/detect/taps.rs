@@ -1269,17 +1269,11 @@ fn blend(a: f32, b: f32, d: f32, e: f32, tx: f32, ty: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::testing::Lcg;
 
     fn noise_plane(width: usize, height: usize) -> Plane {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let data = (0..width * height)
-            .map(|_| {
-                state = state
-                    .wrapping_mul(6_364_136_223_846_793_005)
-                    .wrapping_add(1_442_695_040_888_963_407);
-                (state >> 40) as f32 / (1u64 << 24) as f32
-            })
-            .collect();
+        let mut rng = Lcg(0x9e37_79b9_7f4a_7c15);
+        let data = (0..width * height).map(|_| rng.unit_f32()).collect();
         Plane {
             width,
             height,
