@@ -51,3 +51,36 @@ fn rods_end_to_end() {
     assert!(m.centre_rms_mm < 0.1, "{m:?}");
     assert!(m.angle_rms_deg < 1.5 && m.angle_max_deg < 3.0, "{m:?}");
 }
+
+/// Nuts in a dense disordered packing (the benchmark's fast fill), lab style at 10 px/mm:
+/// every nut found once, within the targets (0.1 mm, 1 degree). Each fit refines
+/// only the coarse finalists within 2 % of the best (`Levels::finalist_margin`): this is
+/// where finalists at other angles compete, squares pressed against squares on all sides.
+#[test]
+fn nuts_in_a_disordered_packing() {
+    use vision::evaluate::bench::truth_in_frame;
+    use vision::evaluate::score;
+    use vision::packing::{Packing, generate};
+    use vision::{Frame, GrainShape};
+    let shape = GrainShape::nut(6.9e-3);
+    let frame = Frame {
+        width: 0.060,
+        height: 0.050,
+        scale: 1e4,
+    };
+    let packed = generate(shape, Packing::Disordered, &frame, 3);
+    let photo = vision::render::render(&packed.grains, &frame, &vision::render::Style::lab(), 3)
+        .to_image(16);
+    let found = detect(&photo, &DetectParams::new(shape, frame.scale)).expect("detects");
+    let tally = score(&truth_in_frame(&packed, &frame), &found);
+    eprintln!(
+        "{tally:?} {:.3} mm {:.2} deg",
+        tally.centre_rms_mm(),
+        tally.orientation_rms_deg()
+    );
+    assert!(tally.truth_uncut >= 30, "{tally:?}");
+    assert_eq!(tally.recall(), 1.0, "{tally:?}");
+    assert_eq!(tally.precision(), 1.0, "{tally:?}");
+    assert!(tally.centre_rms_mm() <= 0.1, "{tally:?}");
+    assert!(tally.orientation_rms_deg() <= 1.0, "{tally:?}");
+}

@@ -66,6 +66,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             (offs, 0.25 * ring, 0.5 * width)
         }
     };
+    // Nuts: the coarse level resolves a square's corners and hole, and a finalist that climbs
+    // there to more than 2 % below the best seldom wins refined (bench, every style: the same
+    // recall and precision, orientation RMS within 0.02 degrees). Rods: the coarse level
+    // barely sees the highlight, and the same margin lost rods (lab rod3 at 10 px/mm
+    // 99.49 -> 99.32 %, rod53 at 6 px/mm 4.7 -> 6.0 degrees): every finalist is refined.
+    let finalist_margin = match params.shape {
+        GrainShape::Square { .. } => 0.02,
+        GrainShape::Rod { .. } => f64::INFINITY,
+    };
     let hole_seeds = match params.shape {
         GrainShape::Square { hole_diameter, .. } => {
             seeds::hole_seeds(blobs, 0.5 * hole_diameter * params.scale)
@@ -166,6 +175,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             coarse_model: &coarse_model,
             factor: f,
             period: params.shape.symmetry_period(),
+            finalist_margin,
         };
         let mut fits: Vec<(usize, fit::Fitted)> = pending
             .par_iter()
@@ -257,6 +267,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
                 coarse_model: &coarse_model,
                 factor: f,
                 period: params.shape.symmetry_period(),
+                finalist_margin,
             },
             model: &fine_model,
             min_confidence: params.min_confidence,

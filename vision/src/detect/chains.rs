@@ -1267,6 +1267,7 @@ mod tests {
                     coarse_model: &self.coarse_model,
                     factor: FACTOR as f64,
                     period: std::f64::consts::PI,
+                    finalist_margin: f64::INFINITY,
                 },
                 model: &self.model,
                 min_confidence: 0.5,

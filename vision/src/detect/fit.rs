@@ -20,6 +20,9 @@ pub struct Levels<'a> {
     pub factor: f64,
     /// Rotation after which the outline looks the same (radians).
     pub period: f64,
+    /// A finalist whose climbed coarse total falls short of the best climbed one by more than
+    /// this fraction of it is not refined (infinite: every finalist is).
+    pub finalist_margin: f64,
 }
 
 /// Positions tried around a seed, in the grain's own frame (along, across the long axis;
@@ -120,27 +123,39 @@ pub fn fit(
             y: p.y / f,
             phi: p.phi,
         };
-        let total = levels
+        levels
             .coarse_model
             .score(scaled, levels.coarse, levels.coarse_free)
-            .total as f64;
-        (total, ())
+            .total as f64
     };
     let step = position_step.max(f);
     // The coarse level barely resolves a rod's highlight, so the finalists, climbed there,
     // are each refined at full resolution and compared refined, which picks the right rod
     // more often than comparing them before refining (lab, 10 px/mm: rod3 recall 98.2 ->
     // 98.7 %, rod53 98.0 -> 98.2 %). On ties the later finalist wins.
+    let climbed: Vec<(Pose, f64)> = finalists
+        .into_iter()
+        .map(|p| {
+            climb(
+                &coarse_eval,
+                p,
+                coarse_eval(p),
+                step,
+                0.5 * COARSE_ANGLE_STEP,
+                2,
+            )
+        })
+        .collect();
+    let top = climbed
+        .iter()
+        .map(|&(_, v)| v)
+        .fold(f64::NEG_INFINITY, f64::max);
     let mut best: Option<Fitted> = None;
-    for p in finalists {
-        let (p, _) = climb(
-            &coarse_eval,
-            p,
-            coarse_eval(p),
-            step,
-            0.5 * COARSE_ANGLE_STEP,
-            2,
-        );
+    for (p, v) in climbed {
+        // (An infinite margin times a zero total would be NaN, hence the finiteness test.)
+        if levels.finalist_margin.is_finite() && v < top - levels.finalist_margin * top.abs() {
+            continue;
+        }
         let refined = refine(levels, p, 0.5 * f);
         if best
             .as_ref()
@@ -301,18 +316,18 @@ fn bfgs_update(b: &mut Matrix3<f64>, s: &Vector3<f64>, y: &Vector3<f64>) {
 }
 
 /// Successive parabolic steps along x, y and the angle, halving the steps each sweep.
-/// `eval` gives the value climbed and what goes with it, `first` what it gives at `start`
-/// (known to the callers, so no pose is scored twice).
-fn climb<T: Copy>(
-    eval: &dyn Fn(Pose) -> (f64, T),
+/// `eval` gives the value climbed, `first` its value at `start` (known to the caller, so no
+/// pose is scored twice). Returns the pose reached and its value.
+fn climb(
+    eval: &dyn Fn(Pose) -> f64,
     start: Pose,
-    first: (f64, T),
+    first: f64,
     position_step: f64,
     angle_step: f64,
     sweeps: usize,
-) -> (Pose, T) {
+) -> (Pose, f64) {
     let mut pose = start;
-    let (mut value, mut carried) = first;
+    let mut value = first;
     let mut hx = position_step;
     let mut ha = angle_step;
     for _ in 0..sweeps {
@@ -327,8 +342,8 @@ fn climb<T: Copy>(
                 }
                 p
             };
-            let (minus, minus_carried) = eval(shifted(-h));
-            let (plus, plus_carried) = eval(shifted(h));
+            let minus = eval(shifted(-h));
+            let plus = eval(shifted(h));
             let curvature = minus - 2.0 * value + plus;
             let step = if curvature < 0.0 {
                 (0.5 * h * (minus - plus) / curvature).clamp(-h, h)
@@ -339,25 +354,25 @@ fn climb<T: Copy>(
             };
             let candidate = shifted(step);
             // A step clamped to the bracket lands on a pose just scored.
-            let (v, v_carried) = if step == h {
-                (plus, plus_carried)
+            let v = if step == h {
+                plus
             } else if step == -h {
-                (minus, minus_carried)
+                minus
             } else {
                 eval(candidate)
             };
             if v > value {
-                (pose, value, carried) = (candidate, v, v_carried);
+                (pose, value) = (candidate, v);
             } else if plus > value && plus >= minus {
-                (pose, value, carried) = (shifted(h), plus, plus_carried);
+                (pose, value) = (shifted(h), plus);
             } else if minus > value {
-                (pose, value, carried) = (shifted(-h), minus, minus_carried);
+                (pose, value) = (shifted(-h), minus);
             }
         }
         hx *= 0.5;
         ha *= 0.5;
     }
-    (pose, carried)
+    (pose, value)
 }
 
 /// The best coarse poses scored so far, and the score below which a pose cannot be a
