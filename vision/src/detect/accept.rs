@@ -246,8 +246,17 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         failed.retain(|s| !this_round.any_within(*s, reach));
         pending = deferred;
         put_off = deferred_poses;
-        coarse_explained = explained.downsample(factor);
-        coarse_free = Bordered::new(&free.downsample(factor));
+        let new = found[found.len() - accepted_this_round..]
+            .iter()
+            .map(|g| g.pose);
+        refresh_coarse(
+            &mut coarse_explained,
+            &mut coarse_free,
+            (&explained, &free),
+            new,
+            &fine_model,
+            factor,
+        );
     }
     if let GrainShape::Rod { .. } = params.shape {
         let mut maps = chains::Maps {
@@ -291,4 +300,118 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
     }
     found
+}
+
+/// Brings the coarse maps (`explained`, and `free` with its border) up to date after the grains
+/// at `poses` were painted on the full-resolution ones (`fine`). Only the blocks under their
+/// paint changed: when those are few (later rounds: tens of grains) they alone are
+/// downsampled again, else the whole maps are (in parallel). Either way the maps are those
+/// downsampling gives, to the bit.
+fn refresh_coarse(
+    explained: &mut Plane,
+    free: &mut Bordered,
+    fine: (&Plane, &Plane),
+    poses: impl Iterator<Item = Pose>,
+    model: &Model,
+    factor: usize,
+) {
+    let (fine_explained, fine_free) = fine;
+    let (w, h) = (fine_explained.width, fine_explained.height);
+    let block = factor.max(1);
+    let boxes: Vec<(usize, usize, usize, usize)> = poses
+        .map(|pose| model.painted_box(pose, w, h))
+        .filter(|&(c0, c1, r0, r1)| c0 <= c1 && r0 <= r1)
+        .map(|(c0, c1, r0, r1)| {
+            let (c0, c1) = (c0 as usize / block, c1 as usize / block);
+            (c0, c1, r0 as usize / block, r1 as usize / block)
+        })
+        .collect();
+    let changed: usize = boxes
+        .iter()
+        .map(|&(c0, c1, r0, r1)| (c1 - c0 + 1) * (r1 - r0 + 1))
+        .sum();
+    // Block by block on one thread against the whole maps on two: the whole maps past a
+    // tenth of their blocks (lab nuts at 10 px/mm: the whole maps 9 ms, round 1's 43 nuts
+    // 1.3 ms, round 0's 455-520 the same 9 ms).
+    if 10 * changed > explained.data.len() {
+        *explained = fine_explained.downsample(factor);
+        *free = Bordered::new(&fine_free.downsample(factor));
+        return;
+    }
+    for (c0, c1, r0, r1) in boxes {
+        for row in r0..=r1 {
+            for col in c0..=c1 {
+                explained.data[row * explained.width + col] =
+                    fine_explained.block_mean(factor, col, row);
+                free.set(col, row, fine_free.block_mean(factor, col, row));
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::detect::testing::Lcg;
+
+    /// After grains are painted (across the edges too), the refreshed coarse maps are, bit for
+    /// bit, the downsampled full-resolution maps, whether a few grains were painted or many.
+    #[test]
+    fn refreshed_coarse_maps_are_the_downsampled_ones() {
+        let mut rng = Lcg(11);
+        let (w, h) = (400, 300);
+        let dark = Plane {
+            width: w,
+            height: h,
+            data: (0..w * h).map(|_| rng.unit_f32()).collect(),
+        };
+        for (shape, factor) in [
+            (GrainShape::nut(6.9e-3), 3),
+            (GrainShape::nut(6.9e-3), 1),
+            (
+                GrainShape::Rod {
+                    length: 8.9e-3,
+                    width: 3e-3,
+                },
+                2,
+            ),
+        ] {
+            let model = Model::new(shape, 3.3e3);
+            let mut explained = Plane::new(w, h, 0.0);
+            let mut free = dark.clone();
+            let mut free_bordered = Bordered::new(&dark);
+            let mut coarse_explained = explained.downsample(factor);
+            let mut coarse_free = Bordered::new(&free.downsample(factor));
+            for round in 0..3 {
+                // A few grains refresh block by block, many the whole maps.
+                let n = if round == 2 { 80 } else { 5 };
+                let poses: Vec<Pose> = (0..n)
+                    .map(|k| Pose {
+                        x: -6.0 + rng.unit_f64() * (w as f64 + 12.0),
+                        y: -6.0 + rng.unit_f64() * (h as f64 + 12.0),
+                        phi: (round * 5 + k) as f64 * 0.37,
+                    })
+                    .collect();
+                for &p in &poses {
+                    model.paint(p, &dark, &mut explained, &mut free, &mut free_bordered);
+                }
+                refresh_coarse(
+                    &mut coarse_explained,
+                    &mut coarse_free,
+                    (&explained, &free),
+                    poses.into_iter(),
+                    &model,
+                    factor,
+                );
+                let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(
+                    bits(&coarse_explained.data),
+                    bits(&explained.downsample(factor).data)
+                );
+                let want = Bordered::new(&free.downsample(factor));
+                assert_eq!(bits(&coarse_free.data), bits(&want.data), "factor {factor}");
+            }
+            assert!(explained.data.iter().any(|&e| e > 0.0));
+        }
+    }
 }

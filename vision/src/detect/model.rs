@@ -517,6 +517,24 @@ impl Model {
         self.paint_within(pose, dark, explained, free, free_bordered, all);
     }
 
+    /// The pixels [`Model::paint`] may change on a `width` x `height` plane: columns
+    /// `c0..=c1`, rows `r0..=r1` (empty when c0 > c1 or r0 > r1).
+    pub fn painted_box(
+        &self,
+        pose: Pose,
+        width: usize,
+        height: usize,
+    ) -> (isize, isize, isize, isize) {
+        let (ex, ey) = self.extent(pose.phi);
+        let (px, py) = (pose.x as f32, pose.y as f32);
+        (
+            ((px - ex).floor() as isize).max(0),
+            ((px + ex).ceil() as isize).min(width as isize - 1),
+            ((py - ey).floor() as isize).max(0),
+            ((py + ey).ceil() as isize).min(height as isize - 1),
+        )
+    }
+
     /// [`Model::paint`] on the pixels of columns `clip.0..=clip.1` and rows
     /// `clip.2..=clip.3` only.
     pub fn paint_within(
@@ -528,7 +546,6 @@ impl Model {
         free_bordered: &mut Bordered,
         clip: (isize, isize, isize, isize),
     ) {
-        let (ex, ey) = self.extent(pose.phi);
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
         let g = &self.geometry;
@@ -537,14 +554,9 @@ impl Model {
             g.half_length + 0.5 * g.soft + 0.01,
             g.half_width + 0.5 * g.soft + 0.01,
         );
-        let c0 = ((px - ex).floor() as isize).max(0).max(clip.0);
-        let c1 = ((px + ex).ceil() as isize)
-            .min(explained.width as isize - 1)
-            .min(clip.1);
-        let r0 = ((py - ey).floor() as isize).max(0).max(clip.2);
-        let r1 = ((py + ey).ceil() as isize)
-            .min(explained.height as isize - 1)
-            .min(clip.3);
+        let (c0, c1, r0, r1) = self.painted_box(pose, explained.width, explained.height);
+        let (c0, c1) = (c0.max(clip.0), c1.min(clip.1));
+        let (r0, r1) = (r0.max(clip.2), r1.min(clip.3));
         for r in r0..=r1 {
             let dy = r as f32 + 0.5 - py;
             for c in c0..=c1 {

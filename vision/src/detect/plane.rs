@@ -32,17 +32,8 @@ impl Plane {
         let h = self.height.div_ceil(factor);
         let mut data = vec![0.0f32; w * h];
         data.par_chunks_mut(w).enumerate().for_each(|(r, out)| {
-            let r0 = r * factor;
-            let r1 = (r0 + factor).min(self.height);
             for (c, o) in out.iter_mut().enumerate() {
-                let c0 = c * factor;
-                let c1 = (c0 + factor).min(self.width);
-                let mut sum = 0.0;
-                for rr in r0..r1 {
-                    let line = &self.data[rr * self.width..];
-                    sum += line[c0..c1].iter().sum::<f32>();
-                }
-                *o = sum / ((r1 - r0) * (c1 - c0)) as f32;
+                *o = self.block_mean(factor, c, r);
             }
         });
         Plane {
@@ -50,6 +41,24 @@ impl Plane {
             height: h,
             data,
         }
+    }
+
+    /// Pixel (`col`, `row`) of [`Plane::downsample`] by `factor`: the mean of its block
+    /// (partial at the right and bottom edges).
+    pub fn block_mean(&self, factor: usize, col: usize, row: usize) -> f32 {
+        if factor <= 1 {
+            return self.data[row * self.width + col];
+        }
+        let r0 = row * factor;
+        let r1 = (r0 + factor).min(self.height);
+        let c0 = col * factor;
+        let c1 = (c0 + factor).min(self.width);
+        let mut sum = 0.0;
+        for rr in r0..r1 {
+            let line = &self.data[rr * self.width..];
+            sum += line[c0..c1].iter().sum::<f32>();
+        }
+        sum / ((r1 - r0) * (c1 - c0)) as f32
     }
 
     /// Separable Gaussian blur (edges clamped).
