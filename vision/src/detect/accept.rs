@@ -125,7 +125,8 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     // Two outlines closer than this may overlap: a fit made before its neighbour was
     // accepted is redone.
     let reach = length.hypot(width) + 2.0;
-    let mut coarse_explained = explained.downsample(factor);
+    // Nothing is explained yet: the coarse map of none, as downsampling would give it.
+    let mut coarse_explained = Plane::new(coarse.width, coarse.height, 0.0);
     // What the tap sums read: the planes with a border repeating their edge.
     let dark_bordered = Bordered::new(dark);
     let coarse_bordered = Bordered::new(&coarse);

@@ -415,23 +415,15 @@ impl<'m> Local<'m> {
         )
     }
 
-    /// Recomputes the coarse free darkness over the cells that meet `w`, as
-    /// [`Plane::downsample`] does.
+    /// Recomputes the coarse free darkness over the cells that meet `w`
+    /// ([`Plane::block_mean`], what [`Plane::downsample`] gives there).
     fn update_coarse(&mut self, w: Window) {
         let f = self.factor as isize;
         let free = &self.maps.free;
         for cr in w.r0 / f..=w.r1 / f {
             for cc in w.c0 / f..=w.c1 / f {
-                let (c0, r0) = ((cc * f) as usize, (cr * f) as usize);
-                let c1 = (c0 + self.factor).min(free.width);
-                let r1 = (r0 + self.factor).min(free.height);
-                let mut sum = 0.0;
-                for rr in r0..r1 {
-                    let line = &free.data[rr * free.width..];
-                    sum += line[c0..c1].iter().sum::<f32>();
-                }
-                let v = sum / ((r1 - r0) * (c1 - c0)) as f32;
                 let (cc, cr) = (cc as usize, cr as usize);
+                let v = free.block_mean(self.factor, cc, cr);
                 let coarse = &mut self.coarse;
                 coarse.plane.data[cr * coarse.plane.width + cc] = v;
                 coarse.bordered.set(cc, cr, v);
