@@ -814,7 +814,10 @@ const DOUBTFUL: f64 = 0.75;
 /// any, and the trial that scores more is kept; only when neither is kept is the doubtful rod
 /// refitted alone.
 ///
-/// So few rods are doubtful (about one in a hundred) that the trials run one after another.
+/// The trials are worked out ahead in parallel on copies of the maps (they took a seventh of
+/// a rod photograph's time one after another: each fits three to six rods over every angle);
+/// the rods are then looked at in order, each taking its trial's guess unless a repair kept
+/// before it changed the rods it would refit or what the guess read, as in [`repair_turned`].
 pub fn repair_doubtful(
     found: &mut Vec<Found>,
     maps: &mut Maps,
@@ -824,13 +827,113 @@ pub fn repair_doubtful(
 ) -> usize {
     let factor = cx.levels.factor as usize;
     let mut local = Local::new(maps, factor);
-    let reach = cx.trial_reach();
+    let trial = Doubtful {
+        offsets,
+        step,
+        reach: cx.trial_reach(),
+        reads: fit_reads(cx, offsets, step),
+    };
+    let doubtful: Vec<usize> = (0..found.len())
+        .filter(|&g| found[g].confidence < DOUBTFUL)
+        .collect();
+    let before: &[Found] = found;
+    let untouched = vec![false; found.len()];
+    let guesses = speculate(&doubtful, &local, |local, &g| {
+        let (rods, around) = trial.rods(before, &untouched, g, cx);
+        DoubtfulGuess {
+            poses: rods.iter().map(|&k| before[k].pose).collect(),
+            reads: trial.reads(local, before, &rods, cx),
+            refit: trial.run(local, before, &rods, around, cx),
+            rods,
+            around,
+        }
+    });
+    let mut changed: Vec<Window> = Vec::new();
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
-    for g in 0..found.len() {
-        if touched[g] || found[g].confidence >= DOUBTFUL {
+    for (i, &g) in doubtful.iter().enumerate() {
+        if touched[g] {
             continue;
         }
+        let (rods, around) = trial.rods(found, &touched, g, cx);
+        // The guess holds when it refitted the same rods at the same poses, beside rows at
+        // the same angle, and no repair kept since changed what it read.
+        let guess = guesses.as_ref().map(|all| &all[i]).filter(|guess| {
+            guess.rods == rods
+                && guess.around == around
+                && rods
+                    .iter()
+                    .zip(&guess.poses)
+                    .all(|(&k, &p)| found[k].pose == p)
+                && !changed.iter().any(|c| c.meets(guess.reads))
+        });
+        let refit = match guess {
+            Some(guess) => guess.refit.clone(),
+            None => trial.run(&mut local, found, &rods, around, cx),
+        };
+        let fits = match &refit {
+            Refit::None => continue,
+            Refit::Together(fits) => &fits[..],
+            Refit::Alone(ft) => std::slice::from_ref(ft),
+        };
+        changed.push(trial.replay(&mut local, found, &rods, &refit, cx));
+        for (k, ft) in fits.iter().enumerate() {
+            match rods.get(k) {
+                Some(&h) => {
+                    found[h] = cx.found(ft);
+                    touched[h] = true;
+                }
+                None => {
+                    found.push(cx.found(ft));
+                    touched.push(true);
+                }
+            }
+        }
+        repaired += 1;
+    }
+    repaired
+}
+
+/// What a doubtful rod's trial kept: the rods refitted together, the doubtful rod alone, or
+/// nothing.
+#[derive(Clone)]
+enum Refit {
+    Together(Vec<fit::Fitted>),
+    Alone(fit::Fitted),
+    None,
+}
+
+/// A doubtful rod's trial worked out ahead: the rods it refitted (the doubtful one first)
+/// and their poses then, the angle of the rows around, what it read, and what it kept.
+struct DoubtfulGuess {
+    rods: Vec<usize>,
+    poses: Vec<Pose>,
+    around: Option<f64>,
+    reads: Window,
+    refit: Refit,
+}
+
+/// The settings of [`repair_doubtful`]'s trials.
+struct Doubtful<'a> {
+    offsets: &'a [(f64, f64)],
+    step: f64,
+    /// Half side of the window a trial may change around each rod.
+    reach: f64,
+    /// How far from its seed a fit may read.
+    reads: f64,
+}
+
+impl Doubtful<'_> {
+    /// The rods refitted with the doubtful rod `g` (it first, then the untouched rods turned
+    /// like it within a length), and the angle of the nearest rod around them turned
+    /// otherwise (the rows there), if one lies within 1.5 lengths.
+    fn rods(
+        &self,
+        found: &[Found],
+        touched: &[bool],
+        g: usize,
+        cx: &Context,
+    ) -> (Vec<usize>, Option<f64>) {
         let old = found[g].pose;
         let rods: Vec<usize> = std::iter::once(g)
             .chain((0..found.len()).filter(|&h| {
@@ -841,7 +944,6 @@ pub fn repair_doubtful(
                     && turn(p.phi, old.phi) < PARALLEL_DEG.to_radians()
             }))
             .collect();
-        // The nearest rod around them turned otherwise: the angle the rows there run at.
         let around = (0..found.len())
             .filter(|&h| !rods.contains(&h))
             .map(|h| (found[h].pose, h))
@@ -850,60 +952,106 @@ pub fn repair_doubtful(
             .filter(|&(d, _)| d < 1.5 * cx.length)
             .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
             .map(|(_, h)| found[h].pose.phi);
-        // At that angle and at any (a block of rods face to face fits rods of either angle;
-        // the rows around may tell which): the trial that scores more is kept. Rods turned
-        // like every rod around them are a row, not rods fitted across one: not tried.
-        let together = if rods.len() > 1 && around.is_some() {
-            let search = (offsets, step, reach);
-            let mut best: Option<(Option<f64>, f64)> = None;
+        (rods, around)
+    }
+
+    /// What a trial about `rods` reads, of either level: fits at each rod's centre and at
+    /// the middle of what they leave unexplained (within a length of their mean centre).
+    fn reads(&self, local: &Local, found: &[Found], rods: &[usize], cx: &Context) -> Window {
+        let free = &local.maps.free;
+        let r = self.reads;
+        let n = rods.len() as f64;
+        let (mx, my) = rods.iter().fold((0.0, 0.0), |(x, y), &k| {
+            (x + found[k].pose.x / n, y + found[k].pose.y / n)
+        });
+        let far = cx.length + r;
+        rods.iter()
+            .map(|&k| Window::around(found[k].pose.x, found[k].pose.y, r, r, free))
+            .fold(Window::around(mx, my, far, far, free), Window::union)
+    }
+
+    /// The trial: the rods taken off together and fitted afresh, once at the rows' angle and
+    /// once at any, the trial that scores more kept ([`refit_together`]); when neither is
+    /// (or the rod has no parallel neighbour, or no rows around), the doubtful rod alone
+    /// fitted afresh at its centre over every angle, kept when it passes the acceptance and
+    /// scores more than its old pose on the same maps. The maps are left as they were.
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        rods: &[usize],
+        around: Option<f64>,
+        cx: &Context,
+    ) -> Refit {
+        // At the rows' angle and at any: a block of rods face to face fits rods of either
+        // angle, and the rows around may tell which. Rods turned like every rod around them
+        // are a row, not rods fitted across one: not tried together.
+        if rods.len() > 1 && around.is_some() {
+            let search = (self.offsets, self.step, self.reach);
+            let mut best: Option<(Vec<fit::Fitted>, f64)> = None;
             for axis in around.map(Some).into_iter().chain([None]) {
-                let Some((_, total)) =
-                    refit_together(&mut local, found, &rods, cx, search, axis, true)
+                let Some((fits, total)) = refit_together(local, found, rods, cx, search, axis)
                 else {
                     continue;
                 };
-                if best.is_none_or(|(_, b)| total > b) {
-                    best = Some((axis, total));
+                if best.as_ref().is_none_or(|(_, b)| total > *b) {
+                    best = Some((fits, total));
                 }
             }
-            best.and_then(|(axis, _)| {
-                refit_together(&mut local, found, &rods, cx, search, axis, false)
-            })
-            .map(|(fits, _)| fits)
-        } else {
-            None
-        };
-        if let Some(fitted) = together {
-            for (k, ft) in fitted.iter().enumerate() {
-                match rods.get(k) {
-                    Some(&h) => {
-                        found[h] = cx.found(ft);
-                        touched[h] = true;
-                    }
-                    None => {
-                        found.push(cx.found(ft));
-                        touched.push(true);
-                    }
-                }
+            if let Some((fits, _)) = best {
+                return Refit::Together(fits);
             }
-            repaired += 1;
-            continue;
         }
-        let window = Window::around(old.x, old.y, reach, reach, &local.maps.free);
+        let g = rods[0];
+        let old = found[g].pose;
+        let window = Window::around(old.x, old.y, self.reach, self.reach, &local.maps.free);
         let saved = local.save(window);
         let old_total = local.take_off(found, g, cx);
-        let ft = fit::fit(&local.levels(cx), (old.x, old.y), offsets, step, None);
+        let ft = fit::fit(
+            &local.levels(cx),
+            (old.x, old.y),
+            self.offsets,
+            self.step,
+            None,
+        );
         let b = local.box_of(ft.pose, cx.model);
-        if cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total {
-            local.place(ft.pose, b, cx);
-            found[g] = cx.found(&ft);
-            touched[g] = true;
-            repaired += 1;
-        } else {
-            local.restore(window, &saved);
-        }
+        let kept = cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total;
+        local.restore(window, &saved);
+        if kept { Refit::Alone(ft) } else { Refit::None }
     }
-    repaired
+
+    /// What a kept trial did to the maps, done again: its rods taken off, its fits painted.
+    /// Returns the pixels it changed (of either level).
+    fn replay(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        rods: &[usize],
+        refit: &Refit,
+        cx: &Context,
+    ) -> Window {
+        let (off, fits): (&[usize], &[fit::Fitted]) = match refit {
+            Refit::Together(fits) => (rods, fits),
+            Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
+            Refit::None => (&[], &[]),
+        };
+        let mut changed: Option<Window> = None;
+        for &k in off {
+            let b = local.box_of(found[k].pose, cx.model);
+            changed = Some(changed.map_or(b, |c| c.union(b)));
+            // Together the rods are taken off as one: none is painted back under another.
+            let skip = if off.len() > 1 { off } else { &[] };
+            local.unpaint(found, k, skip, cx);
+        }
+        for ft in fits {
+            let b = local.box_of(ft.pose, cx.model);
+            local.place(ft.pose, b, cx);
+            changed = Some(changed.map_or(b, |c| c.union(b)));
+        }
+        changed
+            .expect("a kept trial takes a rod off")
+            .grown(cx.levels.factor as isize + 1)
+    }
 }
 
 /// Rods turned by less than this (degrees) from a doubtful rod, and within a length of it,
@@ -916,8 +1064,8 @@ const PARALLEL_DEG: f64 = 15.0;
 /// of what they leave unexplained while that is at least a third of a rod (each agreeing as
 /// clearly as [`repair_crowded`] asks of an added rod). Kept when at least as many rods pass
 /// the acceptance and they score more than the old poses did on the maps without them:
-/// returned with their total, the maps changed unless `undo`. Otherwise the maps are as
-/// they were. `search` is the fits' offsets and first step, and the half side of the window
+/// returned with their total. Either way the maps are left as they were ([`Doubtful::replay`]
+/// paints a kept trial's fits). `search` is the fits' offsets and first step, and the half side of the window
 /// the trial may change around each rod.
 fn refit_together(
     local: &mut Local,
@@ -926,7 +1074,6 @@ fn refit_together(
     cx: &Context,
     search: (&[(f64, f64)], f64, f64),
     axis: Option<f64>,
-    undo: bool,
 ) -> Option<(Vec<fit::Fitted>, f64)> {
     let (offsets, step, reach) = search;
     let free = &local.maps.free;
@@ -983,9 +1130,7 @@ fn refit_together(
         fitted.push(ft);
     }
     let kept = fitted.len() >= rods.len() && new_total > old_total;
-    if !kept || undo {
-        local.restore(window, &saved);
-    }
+    local.restore(window, &saved);
     kept.then_some((fitted, new_total))
 }
 
@@ -1362,6 +1507,56 @@ mod tests {
         assert_found(&found, &truth);
         assert_eq!(found[1].pose, truth[1], "the right rod was moved");
         assert!(found[0].confidence > DOUBTFUL, "{}", found[0].confidence);
+    }
+
+    /// Two doubtful rods, each fitted turned by 20 degrees, the second standing at the end of
+    /// the first, a third rod at the second one's other end: the second one's trial, worked out
+    /// ahead beside the first as it was, reads where the first is repaired and is redone, so
+    /// several threads give what one gives, to the bit (rods and maps).
+    #[test]
+    fn doubtful_repairs_do_not_depend_on_the_thread_count() {
+        let truth = [(70.0, 90.0, 0.2), (115.0, 88.0, 1.77), (115.0, 130.0, 0.0)]
+            .map(|(x, y, phi)| Pose { x, y, phi });
+        let scene = Scene::of(&truth);
+        let cx = scene.cx();
+        let offsets: Vec<(f64, f64)> = [-0.5, 0.0, 0.5]
+            .iter()
+            .flat_map(|&a| [-0.25, 0.0, 0.25].map(move |b| (a * LENGTH, b * WIDTH)))
+            .collect();
+        let on = |threads: usize| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .expect("thread pool")
+                .install(|| {
+                    let mut found: Vec<Found> = truth[..2]
+                        .iter()
+                        .map(|&t| {
+                            let turned = Pose {
+                                phi: t.phi + 20f64.to_radians(),
+                                ..t
+                            };
+                            scene.found(turned, 0.6)
+                        })
+                        .collect();
+                    found.push(scene.found(truth[2], 0.9));
+                    let mut maps = painted(&found, &[], &cx);
+                    let repaired = repair_doubtful(&mut found, &mut maps, &cx, &offsets, 4.5);
+                    let rods: Vec<(Pose, u64)> = found
+                        .iter()
+                        .map(|g| (g.pose, g.confidence.to_bits()))
+                        .collect();
+                    let free: Vec<u32> = maps.free.data.iter().map(|v| v.to_bits()).collect();
+                    (repaired, rods, free)
+                })
+        };
+        let one = on(1);
+        assert_eq!(one.0, 2, "both rods repaired");
+        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
+        assert_found(&rods, &truth);
+        for threads in [2, 3] {
+            assert!(on(threads) == one, "{threads} threads differ from one");
+        }
     }
 
     /// Three rods face to face beside a fourth, fitted as two rods turned the same way across
