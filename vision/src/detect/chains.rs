@@ -1064,9 +1064,9 @@ const PARALLEL_DEG: f64 = 15.0;
 /// of what they leave unexplained while that is at least a third of a rod (each agreeing as
 /// clearly as [`repair_crowded`] asks of an added rod). Kept when at least as many rods pass
 /// the acceptance and they score more than the old poses did on the maps without them:
-/// returned with their total. Either way the maps are left as they were ([`Doubtful::replay`]
-/// paints a kept trial's fits). `search` is the fits' offsets and first step, and the half side of the window
-/// the trial may change around each rod.
+/// returned with their total. Either way the maps are left as they were
+/// ([`Doubtful::replay`] paints a kept trial's fits). `search` is the fits' offsets and first
+/// step, and the half side of the window the trial may change around each rod.
 fn refit_together(
     local: &mut Local,
     found: &[Found],
