@@ -591,17 +591,24 @@ fn usable<'g, T>(
         .filter(|g| !changed.iter().any(|c| c.meets(g.reads)))
 }
 
-/// What a kept trial did to the maps, done again: rod `rod` taken off, `fits` painted.
-/// Returns the pixels it changed (of either level).
+/// What a kept trial did to the maps, done again: the rods `rods` taken off (together: none
+/// is painted back under another), `fits` painted. Returns the pixels it changed (of either
+/// level).
 fn replay(
     local: &mut Local,
     found: &[Found],
-    rod: usize,
+    rods: &[usize],
     fits: &[fit::Fitted],
     cx: &Context,
 ) -> Window {
-    let mut changed = local.box_of(found[rod].pose, cx.model);
-    local.unpaint(found, rod, &[], cx);
+    let mut changed = rods
+        .iter()
+        .map(|&k| local.box_of(found[k].pose, cx.model))
+        .reduce(Window::union)
+        .expect("a kept trial takes a rod off");
+    for &k in rods {
+        local.unpaint(found, k, rods, cx);
+    }
     for ft in fits {
         let b = local.box_of(ft.pose, cx.model);
         local.place(ft.pose, b, cx);
@@ -679,7 +686,7 @@ pub fn repair_turned(
             .and_then(|guess| usable(std::slice::from_ref(guess), g, p, &changed));
         let fitted = match guess {
             Some(guess) => guess.kept.clone().inspect(|fits| {
-                changed.push(replay(&mut local, found, g, fits, cx));
+                changed.push(replay(&mut local, found, &[g], fits, cx));
             }),
             None => trial.run(&mut local, found, g, cx, false).inspect(|fits| {
                 changed.push(changed_by(&local, p, fits, cx));
@@ -871,12 +878,11 @@ pub fn repair_doubtful(
             Some(guess) => guess.refit.clone(),
             None => trial.run(&mut local, found, &rods, around, cx),
         };
-        let fits = match &refit {
-            Refit::None => continue,
-            Refit::Together(fits) => &fits[..],
-            Refit::Alone(ft) => std::slice::from_ref(ft),
-        };
-        changed.push(trial.replay(&mut local, found, &rods, &refit, cx));
+        let (off, fits) = refit.parts(&rods);
+        if fits.is_empty() {
+            continue;
+        }
+        changed.push(replay(&mut local, found, off, fits, cx));
         for (k, ft) in fits.iter().enumerate() {
             match rods.get(k) {
                 Some(&h) => {
@@ -901,6 +907,18 @@ enum Refit {
     Together(Vec<fit::Fitted>),
     Alone(fit::Fitted),
     None,
+}
+
+impl Refit {
+    /// The rods a kept trial took off (of `rods`, the doubtful one first) and the fits it
+    /// painted; none of either when it kept nothing.
+    fn parts<'r>(&'r self, rods: &'r [usize]) -> (&'r [usize], &'r [fit::Fitted]) {
+        match self {
+            Refit::Together(fits) => (rods, fits),
+            Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
+            Refit::None => (&[], &[]),
+        }
+    }
 }
 
 /// A doubtful rod's trial worked out ahead: the rods it refitted (the doubtful one first)
@@ -1019,39 +1037,6 @@ impl Doubtful<'_> {
         local.restore(window, &saved);
         if kept { Refit::Alone(ft) } else { Refit::None }
     }
-
-    /// What a kept trial did to the maps, done again: its rods taken off, its fits painted.
-    /// Returns the pixels it changed (of either level).
-    fn replay(
-        &self,
-        local: &mut Local,
-        found: &[Found],
-        rods: &[usize],
-        refit: &Refit,
-        cx: &Context,
-    ) -> Window {
-        let (off, fits): (&[usize], &[fit::Fitted]) = match refit {
-            Refit::Together(fits) => (rods, fits),
-            Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
-            Refit::None => (&[], &[]),
-        };
-        let mut changed: Option<Window> = None;
-        for &k in off {
-            let b = local.box_of(found[k].pose, cx.model);
-            changed = Some(changed.map_or(b, |c| c.union(b)));
-            // Together the rods are taken off as one: none is painted back under another.
-            let skip = if off.len() > 1 { off } else { &[] };
-            local.unpaint(found, k, skip, cx);
-        }
-        for ft in fits {
-            let b = local.box_of(ft.pose, cx.model);
-            local.place(ft.pose, b, cx);
-            changed = Some(changed.map_or(b, |c| c.union(b)));
-        }
-        changed
-            .expect("a kept trial takes a rod off")
-            .grown(cx.levels.factor as isize + 1)
-    }
 }
 
 /// Rods turned by less than this (degrees) from a doubtful rod, and within a length of it,
@@ -1065,7 +1050,7 @@ const PARALLEL_DEG: f64 = 15.0;
 /// clearly as [`repair_crowded`] asks of an added rod). Kept when at least as many rods pass
 /// the acceptance and they score more than the old poses did on the maps without them:
 /// returned with their total. Either way the maps are left as they were
-/// ([`Doubtful::replay`] paints a kept trial's fits). `search` is the fits' offsets and first
+/// ([`replay`] paints a kept trial's fits). `search` is the fits' offsets and first
 /// step, and the half side of the window the trial may change around each rod.
 fn refit_together(
     local: &mut Local,
@@ -1232,7 +1217,7 @@ pub fn repair_crowded(
                 .and_then(|all| usable(&all[i], h, old, &changed));
             let fitted = match guess {
                 Some(guess) => guess.kept.inspect(|fits| {
-                    changed.push(replay(&mut local, found, h, fits, cx));
+                    changed.push(replay(&mut local, found, &[h], fits, cx));
                 }),
                 None => trial
                     .run(&mut local, found, seed, h, cx, false)
