@@ -1143,6 +1143,27 @@ fn refit_together(
     kept.then_some((fitted, new_total))
 }
 
+/// The `most` rods not yet touched nearest to `at` within `within` (nearest first, ties in
+/// the order found).
+fn nearest(
+    found: &[Found],
+    touched: &[bool],
+    at: (f64, f64),
+    within: f64,
+    most: usize,
+) -> Vec<usize> {
+    let mut near: Vec<(f64, usize)> = (0..found.len())
+        .filter(|&k| !touched[k])
+        .map(|k| {
+            let p = found[k].pose;
+            ((p.x - at.0).hypot(p.y - at.1), k)
+        })
+        .filter(|&(d, _)| d < within)
+        .collect();
+    near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    near.into_iter().take(most).map(|(_, k)| k).collect()
+}
+
 /// Least agreement of a rod that [`repair_crowded`] adds.
 const ADDED_AGREEMENT: f32 = 0.8;
 
@@ -1288,16 +1309,7 @@ impl Crowded<'_> {
         seed: (f64, f64),
         cx: &Context,
     ) -> Vec<usize> {
-        let mut near: Vec<(f64, usize)> = (0..found.len())
-            .filter(|&k| !touched[k])
-            .map(|k| {
-                let p = found[k].pose;
-                ((p.x - seed.0).hypot(p.y - seed.1), k)
-            })
-            .filter(|&(d, _)| d < cx.length)
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        near.into_iter().take(3).map(|(_, k)| k).collect()
+        nearest(found, touched, seed, cx.length, 3)
     }
 
     /// What a trial at `seed` taking off the rod at `old` reads: its fits at the seed and,
@@ -1432,6 +1444,30 @@ mod tests {
         }
     }
 
+    /// What a repair makes of `found` on `threads` threads, to the bit: the number repaired,
+    /// the rods (poses and agreements) and the free darkness.
+    fn on_threads(
+        threads: usize,
+        cx: &Context,
+        mut found: Vec<Found>,
+        repair: impl FnOnce(&mut Vec<Found>, &mut Maps) -> usize + Send,
+    ) -> (usize, Vec<(Pose, u64)>, Vec<u32>) {
+        let mut maps = painted(&found, &[], cx);
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("thread pool")
+            .install(|| {
+                let repaired = repair(&mut found, &mut maps);
+                let rods = found
+                    .iter()
+                    .map(|g| (g.pose, g.confidence.to_bits()))
+                    .collect();
+                let free = maps.free.data.iter().map(|v| v.to_bits()).collect();
+                (repaired, rods, free)
+            })
+    }
+
     /// The acceptance's offsets along a rod's axis.
     fn along_axis() -> Vec<(f64, f64)> {
         (-3..=3)
@@ -1533,31 +1569,20 @@ mod tests {
             .flat_map(|&a| [-0.25, 0.0, 0.25].map(move |b| (a * LENGTH, b * WIDTH)))
             .collect();
         let on = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("thread pool")
-                .install(|| {
-                    let mut found: Vec<Found> = truth[..2]
-                        .iter()
-                        .map(|&t| {
-                            let turned = Pose {
-                                phi: t.phi + 20f64.to_radians(),
-                                ..t
-                            };
-                            scene.found(turned, 0.6)
-                        })
-                        .collect();
-                    found.push(scene.found(truth[2], 0.9));
-                    let mut maps = painted(&found, &[], &cx);
-                    let repaired = repair_doubtful(&mut found, &mut maps, &cx, &offsets, 4.5);
-                    let rods: Vec<(Pose, u64)> = found
-                        .iter()
-                        .map(|g| (g.pose, g.confidence.to_bits()))
-                        .collect();
-                    let free: Vec<u32> = maps.free.data.iter().map(|v| v.to_bits()).collect();
-                    (repaired, rods, free)
+            let mut found: Vec<Found> = truth[..2]
+                .iter()
+                .map(|&t| {
+                    let turned = Pose {
+                        phi: t.phi + 20f64.to_radians(),
+                        ..t
+                    };
+                    scene.found(turned, 0.6)
                 })
+                .collect();
+            found.push(scene.found(truth[2], 0.9));
+            on_threads(threads, &cx, found, |found, maps| {
+                repair_doubtful(found, maps, &cx, &offsets, 4.5)
+            })
         };
         let one = on(1);
         assert_eq!(one.0, 2, "both rods repaired");
@@ -1666,22 +1691,10 @@ mod tests {
         let cx = scene.cx();
         let offsets = along_axis();
         let on = |threads: usize| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .expect("thread pool")
-                .install(|| {
-                    let mut found: Vec<Found> =
-                        w0.iter().chain(&w1).map(|&p| scene.found(p, 0.9)).collect();
-                    let mut maps = painted(&found, &[], &cx);
-                    let repaired = repair_unexplained(&mut found, &mut maps, &cx, &offsets, 4.5);
-                    let rods: Vec<(Pose, u64)> = found
-                        .iter()
-                        .map(|g| (g.pose, g.confidence.to_bits()))
-                        .collect();
-                    let free: Vec<u32> = maps.free.data.iter().map(|v| v.to_bits()).collect();
-                    (repaired, rods, free)
-                })
+            let found = w0.iter().chain(&w1).map(|&p| scene.found(p, 0.9)).collect();
+            on_threads(threads, &cx, found, |found, maps| {
+                repair_unexplained(found, maps, &cx, &offsets, 4.5)
+            })
         };
         let one = on(1);
         assert_eq!(one.0, 1, "the first block repaired");

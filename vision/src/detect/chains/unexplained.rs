@@ -4,7 +4,8 @@
 //! spots are found on the maps instead, where dark area is left unexplained.
 
 use super::{
-    Context, Found, Local, Maps, Window, fit, refit_together, replay, speculate, unexplained_near,
+    Context, Found, Local, Maps, Window, fit, nearest, refit_together, replay, speculate,
+    unexplained_near,
 };
 use crate::detect::model::Pose;
 use crate::detect::plane::Plane;
@@ -111,16 +112,7 @@ impl Spots<'_> {
         spot: (f64, f64),
         cx: &Context,
     ) -> Vec<usize> {
-        let mut near: Vec<(f64, usize)> = (0..found.len())
-            .filter(|&k| !touched[k])
-            .map(|k| {
-                let p = found[k].pose;
-                ((p.x - spot.0).hypot(p.y - spot.1), k)
-            })
-            .filter(|&(d, _)| d < cx.length)
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        near.into_iter().take(NEAR_SPOT).map(|(_, k)| k).collect()
+        nearest(found, touched, spot, cx.length, NEAR_SPOT)
     }
 
     /// What a spot's trials read, of either level: fits at the rods' centres, at the spot,
