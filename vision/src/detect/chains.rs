@@ -620,6 +620,33 @@ fn replay(
     changed.grown(cx.levels.factor as isize + 1)
 }
 
+/// A kept trial taken over: the rods `rods` taken off and `fits` painted ([`replay`]), the
+/// fits written over those rods in order and the rest added, all of them touched. Returns
+/// the pixels it changed.
+fn take_over(
+    local: &mut Local,
+    found: &mut Vec<Found>,
+    touched: &mut Vec<bool>,
+    rods: &[usize],
+    fits: &[fit::Fitted],
+    cx: &Context,
+) -> Window {
+    let changed = replay(local, found, rods, fits, cx);
+    for (k, ft) in fits.iter().enumerate() {
+        match rods.get(k) {
+            Some(&h) => {
+                found[h] = cx.found(ft);
+                touched[h] = true;
+            }
+            None => {
+                found.push(cx.found(ft));
+                touched.push(true);
+            }
+        }
+    }
+    changed
+}
+
 /// Pixels changed by a kept trial (of either level): the box of the rod taken off and those
 /// of the fits painted.
 fn changed_by(local: &Local, old: Pose, fits: &[fit::Fitted], cx: &Context) -> Window {
@@ -885,19 +912,7 @@ pub fn repair_doubtful(
         if fits.is_empty() {
             continue;
         }
-        changed.push(replay(&mut local, found, off, fits, cx));
-        for (k, ft) in fits.iter().enumerate() {
-            match rods.get(k) {
-                Some(&h) => {
-                    found[h] = cx.found(ft);
-                    touched[h] = true;
-                }
-                None => {
-                    found.push(cx.found(ft));
-                    touched.push(true);
-                }
-            }
-        }
+        changed.push(take_over(&mut local, found, &mut touched, off, fits, cx));
         repaired += 1;
     }
     repaired

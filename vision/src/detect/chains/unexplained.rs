@@ -4,7 +4,7 @@
 //! spots are found on the maps instead, where dark area is left unexplained.
 
 use super::{
-    Context, Found, Local, Maps, Window, fit, nearest, refit_together, replay, speculate,
+    Context, Found, Local, Maps, Window, fit, nearest, refit_together, speculate, take_over,
     unexplained_near,
 };
 use crate::detect::model::Pose;
@@ -228,19 +228,7 @@ pub fn repair_unexplained(
         let Some((set, fits)) = kept else {
             continue;
         };
-        changed.push(replay(&mut local, found, &set, &fits, cx));
-        for (k, ft) in fits.iter().enumerate() {
-            match set.get(k) {
-                Some(&h) => {
-                    found[h] = cx.found(ft);
-                    touched[h] = true;
-                }
-                None => {
-                    found.push(cx.found(ft));
-                    touched.push(true);
-                }
-            }
-        }
+        changed.push(take_over(&mut local, found, &mut touched, &set, &fits, cx));
         repaired += 1;
     }
     repaired
