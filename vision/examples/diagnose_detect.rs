@@ -161,6 +161,30 @@ fn main() {
             tc[i][1] * 1e3,
             found[j].confidence
         );
+        if e.abs() > 45.0 {
+            // What a turned rod was fitted across: the detections around its truth.
+            for k in near(tc[i], &dc, l) {
+                let m = d_match[k].map_or("false".to_string(), |t| {
+                    let et = angle_error(found[k].outline.theta, truth[t].outline.theta, period);
+                    format!("t{t} err {:.0} deg", et.to_degrees())
+                });
+                println!(
+                    "    d{k} ({:.2},{:.2}) {:.0} deg conf {:.2}: {m}",
+                    dc[k][0] * 1e3,
+                    dc[k][1] * 1e3,
+                    found[k].outline.theta.to_degrees(),
+                    found[k].confidence
+                );
+            }
+            for k in near(tc[i], &tc, l) {
+                println!(
+                    "    t{k} ({:.2},{:.2}) {:.0} deg",
+                    tc[k][0] * 1e3,
+                    tc[k][1] * 1e3,
+                    truth[k].outline.theta.to_degrees()
+                );
+            }
+        }
     }
     // Classes of failure, counted: a matched rod turned by more than 45 degrees (usually
     // fitted across two neighbours), one tilted by 10-45; a miss beside a false detection
@@ -233,6 +257,8 @@ fn main() {
         .take(24)
         .collect();
     let half = (2.0 * l * frame.scale) as i64;
+    // Crops are drawn about 30 px per mm at any scale, so outlines stay apart.
+    let zoom = (30.0 / px_per_mm).ceil().max(3.0) as u32;
     for (k, c) in centres.iter().enumerate() {
         let (cx, cy) = (
             (c[0] * frame.scale) as i64,
@@ -269,8 +295,8 @@ fn main() {
         }
         let big = image::imageops::resize(
             &crop,
-            crop.width() * 3,
-            crop.height() * 3,
+            crop.width() * zoom,
+            crop.height() * zoom,
             image::imageops::FilterType::Nearest,
         );
         big.save(out.join(format!("case{k:02}.png"))).expect("save");

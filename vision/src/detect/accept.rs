@@ -299,6 +299,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         );
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
         chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        chains::repair_across_highlights(
+            &mut found,
+            &mut maps,
+            &cx,
+            &axis_seeds,
+            &residual_offsets,
+            &along_axis,
+            residual_step,
+        );
         // Last: what every other repair left unexplained marks the rods still missed (lab
         // rod53 at 10 px/mm: 8 misses -> 3, 4 rods turned -> 2).
         chains::repair_unexplained(&mut found, &mut maps, &cx, &residual_offsets, residual_step);

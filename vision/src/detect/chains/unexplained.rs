@@ -4,7 +4,7 @@
 //! spots are found on the maps instead, where dark area is left unexplained.
 
 use super::{
-    Context, Found, Local, Maps, Window, fit, nearest, refit_together, speculate, take_over,
+    Context, Found, Local, Maps, Spot, Window, fit, nearest, refit_together, speculate, take_over,
     unexplained_near,
 };
 use crate::detect::model::Pose;
@@ -159,10 +159,24 @@ impl Spots<'_> {
         let search = (self.offsets, self.step, self.reach);
         for set in singles.chain(pairs) {
             let adds = |kept: &(Vec<fit::Fitted>, f64)| kept.0.len() > set.len();
-            let kept = refit_together(local, found, &set, cx, search, None, None)
+            let kept = refit_together(local, found, &set, cx, search, None, &[])
                 .filter(adds)
                 .or_else(|| {
-                    refit_together(local, found, &set, cx, search, None, Some(spot)).filter(adds)
+                    refit_together(
+                        local,
+                        found,
+                        &set,
+                        cx,
+                        search,
+                        None,
+                        &[Spot {
+                            at: spot,
+                            axis: None,
+                            offsets: None,
+                            needed: true,
+                        }],
+                    )
+                    .filter(adds)
                 });
             if let Some((fits, _)) = kept {
                 return Some((set, fits));
