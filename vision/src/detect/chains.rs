@@ -649,6 +649,123 @@ fn take_over(
     changed
 }
 
+/// The trials of a repair that, about each item (a rod or a spot), takes a set of rods off
+/// and fits them afresh: worked out ahead and taken over in order by [`in_order`].
+trait SetTrials: Sync {
+    type Item: Sync;
+    /// What picks a trial's rods besides the maps: the rods (see [`SetTrials::rods`]) and
+    /// whatever else the trial depends on.
+    type Near: PartialEq + Send;
+    /// What a trial kept, of which [`SetTrials::parts`] tells the rods and the fits.
+    type Kept: Clone + Send;
+    /// Whether `item` is passed over, the rods `touched` being repaired already.
+    fn passed_over(&self, item: &Self::Item, touched: &[bool]) -> bool;
+    /// What picks the trial about `item`, the rods `touched` left out.
+    fn near(
+        &self,
+        found: &[Found],
+        touched: &[bool],
+        item: &Self::Item,
+        cx: &Context,
+    ) -> Self::Near;
+    /// The rods a trial takes off, of those that `near` picks.
+    fn rods<'n>(&self, near: &'n Self::Near) -> &'n [usize];
+    /// What the trial reads, of either level.
+    fn reads(
+        &self,
+        local: &Local,
+        found: &[Found],
+        near: &Self::Near,
+        item: &Self::Item,
+        cx: &Context,
+    ) -> Window;
+    /// The trial, leaving the maps as they were.
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        near: &Self::Near,
+        item: &Self::Item,
+        cx: &Context,
+    ) -> Self::Kept;
+    /// The rods a kept trial took off and the fits it painted; none of either when it kept
+    /// nothing.
+    fn parts<'k>(
+        &self,
+        kept: &'k Self::Kept,
+        near: &'k Self::Near,
+    ) -> (&'k [usize], &'k [fit::Fitted]);
+}
+
+/// A [`SetTrials`] trial worked out ahead: what picked its rods and their poses then, what
+/// it read, and what it kept.
+struct SetGuess<N, K> {
+    near: N,
+    poses: Vec<Pose>,
+    reads: Window,
+    kept: K,
+}
+
+/// The rods taken off and the fits of a trial that keeps them as they are.
+fn set_and_fits(kept: &Option<(Vec<usize>, Vec<fit::Fitted>)>) -> (&[usize], &[fit::Fitted]) {
+    kept.as_ref()
+        .map_or((&[], &[]), |(set, fits)| (set.as_slice(), fits.as_slice()))
+}
+
+/// `trial` about each of `items` in order, each kept one taken over ([`take_over`]). The
+/// trials are worked out ahead in parallel on copies of the maps ([`speculate`]); a guess
+/// holds when the same rods are picked the same way, at the same poses, and no trial kept
+/// since changed what it read; else the trial is done again. The outcome is the sequential
+/// one whatever the thread count. Returns the number of trials kept.
+fn in_order<T: SetTrials>(
+    trial: &T,
+    items: &[T::Item],
+    found: &mut Vec<Found>,
+    local: &mut Local,
+    cx: &Context,
+) -> usize {
+    let before: &[Found] = found;
+    let untouched = vec![false; found.len()];
+    let guesses = speculate(items, local, |local, item| {
+        let near = trial.near(before, &untouched, item, cx);
+        SetGuess {
+            poses: trial.rods(&near).iter().map(|&k| before[k].pose).collect(),
+            reads: trial.reads(local, before, &near, item, cx),
+            kept: trial.run(local, before, &near, item, cx),
+            near,
+        }
+    });
+    let mut changed: Vec<Window> = Vec::new();
+    let mut touched = vec![false; found.len()];
+    let mut repaired = 0;
+    for (i, item) in items.iter().enumerate() {
+        if trial.passed_over(item, &touched) {
+            continue;
+        }
+        let near = trial.near(found, &touched, item, cx);
+        let guess = guesses.as_ref().map(|all| &all[i]).filter(|guess| {
+            guess.near == near
+                && trial
+                    .rods(&near)
+                    .iter()
+                    .zip(&guess.poses)
+                    .all(|(&k, &p)| found[k].pose == p)
+                && !changed.iter().any(|c| c.meets(guess.reads))
+        });
+        let kept = match guess {
+            Some(guess) => guess.kept.clone(),
+            None => trial.run(local, found, &near, item, cx),
+        };
+        let (off, fits) = trial.parts(&kept, &near);
+        if fits.is_empty() {
+            continue;
+        }
+        changed.push(take_over(local, found, &mut touched, off, fits, cx));
+        repaired += 1;
+    }
+    repaired
+}
+
 /// Pixels changed by a kept trial (of either level): the box of the rod taken off and those
 /// of the fits painted.
 fn changed_by(local: &Local, old: Pose, fits: &[fit::Fitted], cx: &Context) -> Window {
@@ -875,49 +992,7 @@ pub fn repair_doubtful(
     let doubtful: Vec<usize> = (0..found.len())
         .filter(|&g| found[g].confidence < DOUBTFUL)
         .collect();
-    let before: &[Found] = found;
-    let untouched = vec![false; found.len()];
-    let guesses = speculate(&doubtful, &local, |local, &g| {
-        let (rods, around) = trial.rods(before, &untouched, g, cx);
-        DoubtfulGuess {
-            poses: rods.iter().map(|&k| before[k].pose).collect(),
-            reads: trial.reads(local, before, &rods, cx),
-            refit: trial.run(local, before, &rods, around, cx),
-            rods,
-            around,
-        }
-    });
-    let mut changed: Vec<Window> = Vec::new();
-    let mut touched = vec![false; found.len()];
-    let mut repaired = 0;
-    for (i, &g) in doubtful.iter().enumerate() {
-        if touched[g] {
-            continue;
-        }
-        let (rods, around) = trial.rods(found, &touched, g, cx);
-        // The guess holds when it refitted the same rods at the same poses, beside rows at
-        // the same angle, and no repair kept since changed what it read.
-        let guess = guesses.as_ref().map(|all| &all[i]).filter(|guess| {
-            guess.rods == rods
-                && guess.around == around
-                && rods
-                    .iter()
-                    .zip(&guess.poses)
-                    .all(|(&k, &p)| found[k].pose == p)
-                && !changed.iter().any(|c| c.meets(guess.reads))
-        });
-        let refit = match guess {
-            Some(guess) => guess.refit.clone(),
-            None => trial.run(&mut local, found, &rods, around, cx),
-        };
-        let (off, fits) = refit.parts(&rods);
-        if fits.is_empty() {
-            continue;
-        }
-        changed.push(take_over(&mut local, found, &mut touched, off, fits, cx));
-        repaired += 1;
-    }
-    repaired
+    in_order(&trial, &doubtful, found, &mut local, cx)
 }
 
 /// What a doubtful rod's trial kept: the rods refitted together, the doubtful rod alone, or
@@ -941,16 +1016,6 @@ impl Refit {
     }
 }
 
-/// A doubtful rod's trial worked out ahead: the rods it refitted (the doubtful one first)
-/// and their poses then, the angle of the rows around, what it read, and what it kept.
-struct DoubtfulGuess {
-    rods: Vec<usize>,
-    poses: Vec<Pose>,
-    around: Option<f64>,
-    reads: Window,
-    refit: Refit,
-}
-
 /// The settings of [`repair_doubtful`]'s trials.
 struct Doubtful<'a> {
     offsets: &'a [(f64, f64)],
@@ -961,15 +1026,24 @@ struct Doubtful<'a> {
     reads: f64,
 }
 
-impl Doubtful<'_> {
+impl SetTrials for Doubtful<'_> {
+    /// A doubtful rod.
+    type Item = usize;
+    type Near = (Vec<usize>, Option<f64>);
+    type Kept = Refit;
+
+    fn passed_over(&self, &g: &usize, touched: &[bool]) -> bool {
+        touched[g]
+    }
+
     /// The rods refitted with the doubtful rod `g` (it first, then the untouched rods turned
     /// like it within a length), and the angle of the nearest rod around them turned
     /// otherwise (the rows there), if one lies within 1.5 lengths.
-    fn rods(
+    fn near(
         &self,
         found: &[Found],
         touched: &[bool],
-        g: usize,
+        &g: &usize,
         cx: &Context,
     ) -> (Vec<usize>, Option<f64>) {
         let old = found[g].pose;
@@ -993,9 +1067,20 @@ impl Doubtful<'_> {
         (rods, around)
     }
 
-    /// What a trial about `rods` reads, of either level: fits at each rod's centre and at
+    fn rods<'n>(&self, near: &'n (Vec<usize>, Option<f64>)) -> &'n [usize] {
+        &near.0
+    }
+
+    /// What a trial about the rods reads, of either level: fits at each rod's centre and at
     /// the middle of what they leave unexplained (within a length of their mean centre).
-    fn reads(&self, local: &Local, found: &[Found], rods: &[usize], cx: &Context) -> Window {
+    fn reads(
+        &self,
+        local: &Local,
+        found: &[Found],
+        (rods, _): &(Vec<usize>, Option<f64>),
+        _: &usize,
+        cx: &Context,
+    ) -> Window {
         let free = &local.maps.free;
         let r = self.reads;
         let n = rods.len() as f64;
@@ -1017,8 +1102,8 @@ impl Doubtful<'_> {
         &self,
         local: &mut Local,
         found: &[Found],
-        rods: &[usize],
-        around: Option<f64>,
+        &(ref rods, around): &(Vec<usize>, Option<f64>),
+        _: &usize,
         cx: &Context,
     ) -> Refit {
         // At the rows' angle and at any: a block of rods face to face fits rods of either
@@ -1056,6 +1141,14 @@ impl Doubtful<'_> {
         let kept = cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total;
         local.restore(window, &saved);
         if kept { Refit::Alone(ft) } else { Refit::None }
+    }
+
+    fn parts<'k>(
+        &self,
+        kept: &'k Refit,
+        near: &'k (Vec<usize>, Option<f64>),
+    ) -> (&'k [usize], &'k [fit::Fitted]) {
+        kept.parts(&near.0)
     }
 }
 

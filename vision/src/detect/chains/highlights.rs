@@ -5,8 +5,8 @@
 //! not agree: the rods' own run across the turned rod, inside it.
 
 use super::{
-    Context, Found, Local, Maps, Spot, Window, fit, fit_reads, nearest, refit_together, speculate,
-    take_over, turn,
+    Context, Found, Local, Maps, SetTrials, Spot, Window, fit, fit_reads, in_order, nearest,
+    refit_together, set_and_fits, turn,
 };
 use crate::detect::model::Pose;
 use crate::detect::ridges::AxisSeed;
@@ -23,15 +23,6 @@ const MIDDLE: (f64, f64) = (0.8, 1.0);
 
 /// Most rods near a turned rod that its trials take off with it, one at a time.
 const NEAR_ROD: usize = 3;
-
-/// A rod's trial worked out ahead: the rods near it (it first) and their poses then, what it
-/// read, and what it kept (the rods taken off and the fits painted).
-struct AcrossGuess {
-    near: Vec<usize>,
-    poses: Vec<Pose>,
-    reads: Window,
-    kept: Option<(Vec<usize>, Vec<fit::Fitted>)>,
-}
 
 /// Whether the highlight `a` lies inside the middle of the rod at `p`: `part` of its length
 /// and of its width.
@@ -68,10 +59,27 @@ impl Across<'_> {
             })
             .collect()
     }
+}
+
+impl<'a> SetTrials for Across<'a> {
+    /// A rod, and the highlights inside it turned from it.
+    type Item = (usize, Vec<Spot<'a>>);
+    type Near = Vec<usize>;
+    type Kept = Option<(Vec<usize>, Vec<fit::Fitted>)>;
+
+    fn passed_over(&self, &(g, _): &Self::Item, touched: &[bool]) -> bool {
+        touched[g]
+    }
 
     /// The rods a trial about rod `g` takes off: it, then the nearest [`NEAR_ROD`] within a
     /// length not yet touched.
-    fn near(&self, found: &[Found], touched: &[bool], g: usize, cx: &Context) -> Vec<usize> {
+    fn near(
+        &self,
+        found: &[Found],
+        touched: &[bool],
+        &(g, _): &Self::Item,
+        cx: &Context,
+    ) -> Vec<usize> {
         let p = found[g].pose;
         std::iter::once(g)
             .chain(
@@ -86,7 +94,18 @@ impl Across<'_> {
     /// What a trial about `near` reads, of either level: fits at the rods' centres, at the
     /// highlights (inside the first rod), and at the middle of what is left unexplained
     /// within a length of a set's mean centre (within a length of the first rod).
-    fn reads(&self, local: &Local, found: &[Found], near: &[usize], cx: &Context) -> Window {
+    fn rods<'n>(&self, near: &'n Vec<usize>) -> &'n [usize] {
+        near
+    }
+
+    fn reads(
+        &self,
+        local: &Local,
+        found: &[Found],
+        near: &Vec<usize>,
+        _: &Self::Item,
+        cx: &Context,
+    ) -> Window {
         let free = &local.maps.free;
         let r = self.reads;
         let p = found[near[0]].pose;
@@ -105,23 +124,27 @@ impl Across<'_> {
         &self,
         local: &mut Local,
         found: &[Found],
-        near: &[usize],
-        seeds: &[AxisSeed],
+        near: &Vec<usize>,
+        (_, spots): &Self::Item,
         cx: &Context,
     ) -> Option<(Vec<usize>, Vec<fit::Fitted>)> {
         let g = near[0];
-        let spots = self.turned_inside(found[g].pose, seeds, cx);
-        if spots.is_empty() {
-            return None;
-        }
         let search = (self.offsets, self.step, self.reach);
         let sets = std::iter::once(vec![g]).chain(near[1..].iter().map(|&k| vec![g, k]));
         for set in sets {
-            if let Some((fits, _)) = refit_together(local, found, &set, cx, search, None, &spots) {
+            if let Some((fits, _)) = refit_together(local, found, &set, cx, search, None, spots) {
                 return Some((set, fits));
             }
         }
         None
+    }
+
+    fn parts<'k>(
+        &self,
+        kept: &'k Self::Kept,
+        _: &'k Vec<usize>,
+    ) -> (&'k [usize], &'k [fit::Fitted]) {
+        set_and_fits(kept)
     }
 }
 
@@ -151,45 +174,9 @@ pub fn repair_across_highlights(
         reach: cx.trial_reach(),
         reads: fit_reads(cx, offsets, step).max(fit_reads(cx, along_axis, step)),
     };
-    let before: &[Found] = found;
-    let rods: Vec<usize> = (0..found.len())
-        .filter(|&g| !trial.turned_inside(before[g].pose, seeds, cx).is_empty())
+    let rods: Vec<(usize, Vec<Spot>)> = (0..found.len())
+        .map(|g| (g, trial.turned_inside(found[g].pose, seeds, cx)))
+        .filter(|(_, spots)| !spots.is_empty())
         .collect();
-    let untouched = vec![false; found.len()];
-    let guesses = speculate(&rods, &local, |local, &g| {
-        let near = trial.near(before, &untouched, g, cx);
-        AcrossGuess {
-            poses: near.iter().map(|&k| before[k].pose).collect(),
-            reads: trial.reads(local, before, &near, cx),
-            kept: trial.run(local, before, &near, seeds, cx),
-            near,
-        }
-    });
-    let mut changed: Vec<Window> = Vec::new();
-    let mut touched = vec![false; found.len()];
-    let mut repaired = 0;
-    for (i, &g) in rods.iter().enumerate() {
-        if touched[g] {
-            continue;
-        }
-        let near = trial.near(found, &touched, g, cx);
-        let guess = guesses.as_ref().map(|all| &all[i]).filter(|guess| {
-            guess.near == near
-                && near
-                    .iter()
-                    .zip(&guess.poses)
-                    .all(|(&k, &p)| found[k].pose == p)
-                && !changed.iter().any(|c| c.meets(guess.reads))
-        });
-        let kept = match guess {
-            Some(guess) => guess.kept.clone(),
-            None => trial.run(&mut local, found, &near, seeds, cx),
-        };
-        let Some((set, fits)) = kept else {
-            continue;
-        };
-        changed.push(take_over(&mut local, found, &mut touched, &set, &fits, cx));
-        repaired += 1;
-    }
-    repaired
+    in_order(&trial, &rods, found, &mut local, cx)
 }

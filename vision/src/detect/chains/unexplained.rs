@@ -4,10 +4,9 @@
 //! spots are found on the maps instead, where dark area is left unexplained.
 
 use super::{
-    Context, Found, Local, Maps, Spot, Window, fit, nearest, refit_together, speculate, take_over,
-    unexplained_near,
+    Context, Found, Local, Maps, SetTrials, Spot, Window, fit, in_order, nearest, refit_together,
+    set_and_fits, unexplained_near,
 };
-use crate::detect::model::Pose;
 use crate::detect::plane::Plane;
 
 /// Spots where at least a third of a rod's area is left unexplained within a square of side
@@ -67,15 +66,6 @@ fn least_unexplained(cx: &Context) -> f64 {
     cx.length * cx.width / 3.0
 }
 
-/// A spot's trial worked out ahead: the rods near it and their poses then, what it read,
-/// and what it kept (the rods taken off and the fits painted).
-struct SpotGuess {
-    near: Vec<usize>,
-    poses: Vec<Pose>,
-    reads: Window,
-    kept: Option<(Vec<usize>, Vec<fit::Fitted>)>,
-}
-
 /// The settings of [`repair_unexplained`]'s trials.
 struct Spots<'a> {
     offsets: &'a [(f64, f64)],
@@ -102,6 +92,17 @@ impl Spots<'_> {
     fn unexplained(&self, local: &Local, spot: (f64, f64), cx: &Context) -> bool {
         unexplained_near(&local.maps.free, spot.0, spot.1, cx.length).count >= least_unexplained(cx)
     }
+}
+
+impl SetTrials for Spots<'_> {
+    /// A spot of unexplained dark area.
+    type Item = (f64, f64);
+    type Near = Vec<usize>;
+    type Kept = Option<(Vec<usize>, Vec<fit::Fitted>)>;
+
+    fn passed_over(&self, _: &(f64, f64), _: &[bool]) -> bool {
+        false
+    }
 
     /// The rods a spot's trials take off: the nearest [`NEAR_SPOT`] within a length not yet
     /// touched.
@@ -109,10 +110,14 @@ impl Spots<'_> {
         &self,
         found: &[Found],
         touched: &[bool],
-        spot: (f64, f64),
+        &spot: &(f64, f64),
         cx: &Context,
     ) -> Vec<usize> {
         nearest(found, touched, spot, cx.length, NEAR_SPOT)
+    }
+
+    fn rods<'n>(&self, near: &'n Vec<usize>) -> &'n [usize] {
+        near
     }
 
     /// What a spot's trials read, of either level: fits at the rods' centres, at the spot,
@@ -122,8 +127,8 @@ impl Spots<'_> {
         &self,
         local: &Local,
         found: &[Found],
-        near: &[usize],
-        spot: (f64, f64),
+        near: &Vec<usize>,
+        &spot: &(f64, f64),
         cx: &Context,
     ) -> Window {
         let free = &local.maps.free;
@@ -146,8 +151,8 @@ impl Spots<'_> {
         &self,
         local: &mut Local,
         found: &[Found],
-        near: &[usize],
-        spot: (f64, f64),
+        near: &Vec<usize>,
+        &spot: &(f64, f64),
         cx: &Context,
     ) -> Option<(Vec<usize>, Vec<fit::Fitted>)> {
         if !self.unexplained(local, spot, cx) {
@@ -184,6 +189,14 @@ impl Spots<'_> {
         }
         None
     }
+
+    fn parts<'k>(
+        &self,
+        kept: &'k Self::Kept,
+        _: &'k Vec<usize>,
+    ) -> (&'k [usize], &'k [fit::Fitted]) {
+        set_and_fits(kept)
+    }
 }
 
 /// Rods missed where their neighbours' fits ate into their place, found at the spots of
@@ -211,39 +224,5 @@ pub fn repair_unexplained(
         reach: cx.trial_reach(),
         reads: super::fit_reads(cx, offsets, step),
     };
-    let before: &[Found] = found;
-    let untouched = vec![false; found.len()];
-    let guesses = speculate(&spots, &local, |local, &spot| {
-        let near = trial.near(before, &untouched, spot, cx);
-        SpotGuess {
-            poses: near.iter().map(|&k| before[k].pose).collect(),
-            reads: trial.reads(local, before, &near, spot, cx),
-            kept: trial.run(local, before, &near, spot, cx),
-            near,
-        }
-    });
-    let mut changed: Vec<Window> = Vec::new();
-    let mut touched = vec![false; found.len()];
-    let mut repaired = 0;
-    for (i, &spot) in spots.iter().enumerate() {
-        let near = trial.near(found, &touched, spot, cx);
-        let guess = guesses.as_ref().map(|all| &all[i]).filter(|guess| {
-            guess.near == near
-                && near
-                    .iter()
-                    .zip(&guess.poses)
-                    .all(|(&k, &p)| found[k].pose == p)
-                && !changed.iter().any(|c| c.meets(guess.reads))
-        });
-        let kept = match guess {
-            Some(guess) => guess.kept.clone(),
-            None => trial.run(&mut local, found, &near, spot, cx),
-        };
-        let Some((set, fits)) = kept else {
-            continue;
-        };
-        changed.push(take_over(&mut local, found, &mut touched, &set, &fits, cx));
-        repaired += 1;
-    }
-    repaired
+    in_order(&trial, &spots, found, &mut local, cx)
 }
