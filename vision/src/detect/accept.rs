@@ -299,18 +299,30 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         );
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
         chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
-        chains::repair_across_highlights(
-            &mut found,
-            &mut maps,
-            &cx,
-            &axis_seeds,
-            &residual_offsets,
-            &along_axis,
-            residual_step,
-        );
+        let across = |found: &mut Vec<Found>, maps: &mut chains::Maps, tried: Vec<usize>| {
+            chains::repair_across_highlights(
+                found,
+                maps,
+                &cx,
+                tried.into_iter(),
+                &axis_seeds,
+                &residual_offsets,
+                &along_axis,
+                residual_step,
+            )
+        };
+        let every = (0..found.len()).collect();
+        across(&mut found, &mut maps, every);
         // Last: what every other repair left unexplained marks the rods still missed (lab
         // rod53 at 10 px/mm: 8 misses -> 3, 4 rods turned -> 2).
+        let before: Vec<Pose> = found.iter().map(|f| f.pose).collect();
         chains::repair_unexplained(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        // A rod added at an unexplained spot may be turned across rods face to face as the
+        // first fits were: those it added or refitted are looked at again.
+        let changed = (0..found.len())
+            .filter(|&g| before.get(g) != Some(&found[g].pose))
+            .collect();
+        across(&mut found, &mut maps, changed);
     }
     found
 }

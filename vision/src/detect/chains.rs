@@ -1893,8 +1893,32 @@ mod tests {
         let offsets = along_axis();
         let mut found = vec![scene.found(wrong, 0.9)];
         let mut maps = painted(&found, &[], &cx);
+        // A rod not among those tried is left as it was.
         assert_eq!(
-            repair_across_highlights(&mut found, &mut maps, &cx, &seeds, &offsets, &offsets, 4.5),
+            repair_across_highlights(
+                &mut found,
+                &mut maps,
+                &cx,
+                0..0,
+                &seeds,
+                &offsets,
+                &offsets,
+                4.5
+            ),
+            0
+        );
+        assert_eq!(found[0].pose, wrong);
+        assert_eq!(
+            repair_across_highlights(
+                &mut found,
+                &mut maps,
+                &cx,
+                0..1,
+                &seeds,
+                &offsets,
+                &offsets,
+                4.5
+            ),
             1
         );
         assert_eq!(found.len(), 2);
@@ -1922,7 +1946,16 @@ mod tests {
         let mut found = vec![scene.found(truth[0], 0.9)];
         let mut maps = painted(&found, &[], &cx);
         assert_eq!(
-            repair_across_highlights(&mut found, &mut maps, &cx, &stray, &offsets, &offsets, 4.5),
+            repair_across_highlights(
+                &mut found,
+                &mut maps,
+                &cx,
+                0..1,
+                &stray,
+                &offsets,
+                &offsets,
+                4.5
+            ),
             0
         );
         assert_eq!(found.len(), 1);
@@ -1949,7 +1982,7 @@ mod tests {
         let on = |threads: usize| {
             let found = [w0, w1].map(|p| scene.found(p, 0.9)).into();
             on_threads(threads, &cx, found, |found, maps| {
-                repair_across_highlights(found, maps, &cx, &seeds, &offsets, &offsets, 4.5)
+                repair_across_highlights(found, maps, &cx, 0..2, &seeds, &offsets, &offsets, 4.5)
             })
         };
         let one = on(1);

@@ -155,11 +155,13 @@ impl<'a> SetTrials for Across<'a> {
 /// As in [`repair_doubtful`](super::repair_doubtful), the trials are worked out ahead in
 /// parallel and taken over in order where the rods near, their poses and what the trials
 /// read are unchanged since, so the outcome is the sequential one whatever the thread count.
-/// Returns the number of rods repaired.
+/// Only the rods `tried` are looked at. Returns the number of rods repaired.
+#[allow(clippy::too_many_arguments)]
 pub fn repair_across_highlights(
     found: &mut Vec<Found>,
     maps: &mut Maps,
     cx: &Context,
+    tried: impl Iterator<Item = usize>,
     seeds: &[AxisSeed],
     offsets: &[(f64, f64)],
     along_axis: &[(f64, f64)],
@@ -174,7 +176,7 @@ pub fn repair_across_highlights(
         reach: cx.trial_reach(),
         reads: fit_reads(cx, offsets, step).max(fit_reads(cx, along_axis, step)),
     };
-    let rods: Vec<(usize, Vec<Spot>)> = (0..found.len())
+    let rods: Vec<(usize, Vec<Spot>)> = tried
         .map(|g| (g, trial.turned_inside(found[g].pose, seeds, cx)))
         .filter(|(_, spots)| !spots.is_empty())
         .collect();
