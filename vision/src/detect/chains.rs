@@ -1113,12 +1113,12 @@ impl SetTrials for Doubtful<'_> {
             let search = (self.offsets, self.step, self.reach);
             let mut best: Option<(Vec<fit::Fitted>, f64)> = None;
             for axis in around.map(Some).into_iter().chain([None]) {
-                let Some((fits, total)) = refit_together(local, found, rods, cx, search, axis, &[])
+                let Some((fits, gain)) = refit_together(local, found, rods, cx, search, axis, &[])
                 else {
                     continue;
                 };
-                if best.as_ref().is_none_or(|(_, b)| total > *b) {
-                    best = Some((fits, total));
+                if best.as_ref().is_none_or(|(_, b)| gain > *b) {
+                    best = Some((fits, gain));
                 }
             }
             if let Some((fits, _)) = best {
@@ -1162,9 +1162,10 @@ const PARALLEL_DEG: f64 = 15.0;
 /// of what they leave unexplained while that is at least a third of a rod (each agreeing as
 /// clearly as [`repair_crowded`] asks of an added rod). Kept when at least as many rods pass
 /// the acceptance and they score more than the old poses did on the maps without them:
-/// returned with their total, the refits first. Either way the maps are left as they were
-/// ([`replay`] paints a kept trial's fits). `search` is the fits' offsets and first
-/// step, and the half side of the window the trial may change around each rod.
+/// returned with what they score more (their gain), the refits first. Either way the maps
+/// are left as they were ([`replay`] paints a kept trial's fits). `search` is the fits'
+/// offsets and first step, and the half side of the window the trial may change around
+/// each rod.
 ///
 /// At `spots`, rods are fitted before the others: with its neighbours taken off, a rod their
 /// fits had eaten into is found whole, where fitted after them it is not. A needed spot
@@ -1212,13 +1213,23 @@ fn refit_together(
         if explained && !spot.needed {
             continue;
         }
-        let ft = fit::fit(
-            &local.levels(cx),
-            spot.at,
-            spot.offsets.unwrap_or(offsets),
-            step,
-            spot.axis.or(axis),
-        );
+        let ft = match (spot.fixed, spot.axis.or(axis)) {
+            (true, Some(phi)) => {
+                let (x, y) = spot.at;
+                let pose = Pose { x, y, phi };
+                let score = cx
+                    .model
+                    .score(pose, cx.levels.fine, &local.maps.free_bordered);
+                fit::Fitted { pose, score }
+            }
+            (_, axis) => fit::fit(
+                &local.levels(cx),
+                spot.at,
+                spot.offsets.unwrap_or(offsets),
+                step,
+                axis,
+            ),
+        };
         let b = local.box_of(ft.pose, cx.model);
         if !(cx.passes(&ft, b, window) && ft.score.agreement >= ADDED_AGREEMENT) {
             if spot.needed {
@@ -1271,7 +1282,7 @@ fn refit_together(
     local.restore(window, &saved);
     // The rods at the spots are added ones: after the refits.
     fitted.rotate_left(at_spots);
-    kept.then_some((fitted, new_total))
+    kept.then_some((fitted, new_total - old_total))
 }
 
 /// A rod fitted by [`refit_together`] before the refits: where, at what angle (else the
@@ -1284,6 +1295,9 @@ struct Spot<'a> {
     /// Whether the trial fails without a rod here; else a spot already explained, or whose
     /// fit does not agree as an added rod must, is passed over.
     needed: bool,
+    /// Whether the rod is placed at `at` and its angle as it is, not fitted: where rods
+    /// refined together as a row end to end put it.
+    fixed: bool,
 }
 
 /// The `most` rods not yet touched nearest to `at` within `within` (nearest first, ties in
@@ -1536,14 +1550,18 @@ mod tests {
 
     impl Scene {
         fn of(rods: &[Pose]) -> Scene {
+            Scene::sized(rods, 200, 180)
+        }
+
+        fn sized(rods: &[Pose], width: usize, height: usize) -> Scene {
             let shape = GrainShape::Rod {
                 length: 4.9e-3,
                 width: 3e-3,
             };
             let scale = 1e4;
             let model = Model::new(shape, scale);
-            let mut dark = Plane::new(200, 180, 0.0);
-            let mut ones = Plane::new(200, 180, 1.0);
+            let mut dark = Plane::new(width, height, 0.0);
+            let mut ones = Plane::new(width, height, 1.0);
             let mut scratch = Bordered::new(&ones);
             for &p in rods {
                 model.paint(p, &ones.clone(), &mut dark, &mut ones, &mut scratch);
@@ -1992,5 +2010,102 @@ mod tests {
         for threads in [2, 3] {
             assert!(on(threads) == one, "{threads} threads differ from one");
         }
+    }
+
+    /// Five rods end to end at height `y`, and the row's fit: the middle one turned across
+    /// it, its neighbours shifted by 7 px into its place; with the middle's highlight.
+    fn squeezed_row(y: f64) -> (Vec<Pose>, [Pose; 5], AxisSeed) {
+        let truth: Vec<Pose> = (0..5)
+            .map(|i| Pose {
+                x: 40.0 + LENGTH * i as f64,
+                y,
+                phi: 0.0,
+            })
+            .collect();
+        let shifted = |i: usize, dx: f64| Pose {
+            x: truth[i].x + dx,
+            ..truth[i]
+        };
+        let turned = Pose {
+            phi: std::f64::consts::FRAC_PI_2,
+            ..truth[2]
+        };
+        let wrong = [
+            turned,
+            truth[0],
+            shifted(1, 7.0),
+            shifted(3, -7.0),
+            truth[4],
+        ];
+        let highlight = AxisSeed {
+            x: truth[2].x,
+            y,
+            phi: 0.0,
+            depth: 0.8,
+        };
+        (truth, wrong, highlight)
+    }
+
+    /// Two rows of [`squeezed_row`] face to face, 2 px apart, whose trials read each other's
+    /// pixels: several threads give what one gives, to the bit (rods and maps).
+    #[test]
+    fn row_repairs_do_not_depend_on_the_thread_count() {
+        let (t0, w0, h0) = squeezed_row(50.0);
+        let (t1, w1, h1) = squeezed_row(50.0 + WIDTH + 2.0);
+        let truth: Vec<Pose> = t0.into_iter().chain(t1).collect();
+        let scene = Scene::sized(&truth, 280, 140);
+        let cx = scene.cx();
+        let offsets = along_axis();
+        let seeds = [h0, h1];
+        let on = |threads: usize| {
+            let found = w0.iter().chain(&w1).map(|&p| scene.found(p, 0.9)).collect();
+            on_threads(threads, &cx, found, |found, maps| {
+                repair_across_highlights(
+                    found,
+                    maps,
+                    &cx,
+                    [0, 5].into_iter(),
+                    &seeds,
+                    &offsets,
+                    &offsets,
+                    4.5,
+                )
+            })
+        };
+        let one = on(1);
+        assert_eq!(one.0, 2, "both rows repaired");
+        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
+        assert_found(&rods, &truth);
+        for threads in [2, 3] {
+            assert!(on(threads) == one, "{threads} threads differ from one");
+        }
+    }
+
+    /// A row of five rods end to end whose middle one was fitted turned across the row, its
+    /// neighbours shifted into its place: the middle's highlight does not say where along
+    /// the row a rod ends, the rods at the row's ends do, and the row between them is
+    /// refitted end to end.
+    #[test]
+    fn a_row_squeezed_about_a_turned_rod_is_refitted_end_to_end() {
+        let (truth, wrong, highlight) = squeezed_row(60.0);
+        let scene = Scene::sized(&truth, 280, 120);
+        let cx = scene.cx();
+        let offsets = along_axis();
+        let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+        let mut maps = painted(&found, &[], &cx);
+        let highlight = [highlight];
+        let repaired = repair_across_highlights(
+            &mut found,
+            &mut maps,
+            &cx,
+            0..1,
+            &highlight,
+            &offsets,
+            &offsets,
+            4.5,
+        );
+        assert_eq!(repaired, 1);
+        assert_eq!(found.len(), 5);
+        assert_found(&found, &truth);
     }
 }

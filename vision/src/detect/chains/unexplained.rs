@@ -179,6 +179,7 @@ impl SetTrials for Spots<'_> {
                             axis: None,
                             offsets: None,
                             needed: true,
+                            fixed: false,
                         }],
                     )
                     .filter(adds)
