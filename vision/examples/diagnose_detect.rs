@@ -56,34 +56,19 @@ fn main() {
         .to_luma8()
         .save(out.join("photo.png"))
         .expect("save photo");
-    let table = |rows: Vec<(f64, f64, f64, bool)>| {
+    let table = |rows: Vec<(&GrainOutline, bool)>| {
         std::iter::once("index,x_mm,y_mm,theta_deg,cut".to_string())
-            .chain(
-                rows.iter()
-                    .enumerate()
-                    .map(|(i, r)| format!("{i},{:.3},{:.3},{:.2},{}", r.0, r.1, r.2, r.3)),
-            )
+            .chain(rows.iter().enumerate().map(|(i, (o, cut))| {
+                let (x, y, theta) = (o.x * 1e3, o.y * 1e3, o.theta.to_degrees());
+                format!("{i},{x:.3},{y:.3},{theta:.2},{cut}")
+            }))
             .collect::<Vec<_>>()
             .join("\n")
     };
-    let mm = |o: &GrainOutline| (o.x * 1e3, o.y * 1e3, o.theta.to_degrees());
-    let rows = |t: Vec<((f64, f64, f64), bool)>| {
-        t.into_iter().map(|((x, y, a), c)| (x, y, a, c)).collect()
-    };
-    std::fs::write(
-        out.join("truth.csv"),
-        table(rows(
-            truth.iter().map(|t| (mm(&t.outline), t.cut)).collect(),
-        )),
-    )
-    .expect("save truth");
-    std::fs::write(
-        out.join("found.csv"),
-        table(rows(
-            found.iter().map(|d| (mm(&d.outline), d.cut)).collect(),
-        )),
-    )
-    .expect("save found");
+    let truth_rows = truth.iter().map(|t| (&t.outline, t.cut)).collect();
+    std::fs::write(out.join("truth.csv"), table(truth_rows)).expect("save truth");
+    let found_rows = found.iter().map(|d| (&d.outline, d.cut)).collect();
+    std::fs::write(out.join("found.csv"), table(found_rows)).expect("save found");
     let tc: Vec<[f64; 2]> = truth.iter().map(|t| [t.outline.x, t.outline.y]).collect();
     let dc: Vec<[f64; 2]> = found.iter().map(|d| [d.outline.x, d.outline.y]).collect();
     let w = shape.width();

@@ -1606,14 +1606,34 @@ mod tests {
         }
     }
 
-    /// What a repair makes of `found` on `threads` threads, to the bit: the number repaired,
-    /// the rods (poses and agreements) and the free darkness.
+    /// What a repair made, to the bit: the number repaired, the rods (poses and agreements)
+    /// and the free darkness.
+    type Repaired = (usize, Vec<(Pose, u64)>, Vec<u32>);
+
+    /// The repair `on` (run on that many threads) mends both of two cases, `what`, to
+    /// `truth` on one thread, and gives the same on two and three.
+    fn assert_both_repaired_alike(
+        scene: &Scene,
+        truth: &[Pose],
+        what: &str,
+        on: impl Fn(usize) -> Repaired,
+    ) {
+        let one = on(1);
+        assert_eq!(one.0, 2, "both {what} repaired");
+        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
+        assert_found(&rods, truth);
+        for threads in [2, 3] {
+            assert!(on(threads) == one, "{threads} threads differ from one");
+        }
+    }
+
+    /// What a repair makes of `found` on `threads` threads, to the bit.
     fn on_threads(
         threads: usize,
         cx: &Context,
         mut found: Vec<Found>,
         repair: impl FnOnce(&mut Vec<Found>, &mut Maps) -> usize + Send,
-    ) -> (usize, Vec<(Pose, u64)>, Vec<u32>) {
+    ) -> Repaired {
         let mut maps = painted(&found, &[], cx);
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -1746,13 +1766,7 @@ mod tests {
                 repair_doubtful(found, maps, &cx, &offsets, 4.5)
             })
         };
-        let one = on(1);
-        assert_eq!(one.0, 2, "both rods repaired");
-        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
-        assert_found(&rods, &truth);
-        for threads in [2, 3] {
-            assert!(on(threads) == one, "{threads} threads differ from one");
-        }
+        assert_both_repaired_alike(&scene, &truth, "rods", on);
     }
 
     /// Three rods face to face beside a fourth, fitted as two rods turned the same way across
@@ -2003,13 +2017,7 @@ mod tests {
                 repair_across_highlights(found, maps, &cx, 0..2, &seeds, &offsets, &offsets, 4.5)
             })
         };
-        let one = on(1);
-        assert_eq!(one.0, 2, "both blocks repaired");
-        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
-        assert_found(&rods, &truth);
-        for threads in [2, 3] {
-            assert!(on(threads) == one, "{threads} threads differ from one");
-        }
+        assert_both_repaired_alike(&scene, &truth, "blocks", on);
     }
 
     /// Five rods end to end at height `y`, and the row's fit: the middle one turned across
@@ -2072,13 +2080,7 @@ mod tests {
                 )
             })
         };
-        let one = on(1);
-        assert_eq!(one.0, 2, "both rows repaired");
-        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
-        assert_found(&rods, &truth);
-        for threads in [2, 3] {
-            assert!(on(threads) == one, "{threads} threads differ from one");
-        }
+        assert_both_repaired_alike(&scene, &truth, "rows", on);
     }
 
     /// A row of five rods end to end whose middle one was fitted turned across the row, its
