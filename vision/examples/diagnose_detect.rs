@@ -3,7 +3,8 @@
 //!
 //! `cargo run --release -p vision --example diagnose_detect -- rod3 disordered 10 lab 100 60 /tmp/diag`
 //! (shape, packing, px/mm, style, frame width and height in mm, output folder for crops,
-//! packing seed, render seed).
+//! packing seed, render seed, and optionally points x,y in mm to crop instead of the worst
+//! cases).
 
 use std::time::Instant;
 
@@ -274,6 +275,19 @@ fn main() {
         )
         .take(24)
         .collect();
+    // Points (mm) given after the render seed, as x,y, are cropped instead.
+    let asked: Vec<[f64; 2]> = a
+        .iter()
+        .skip(10)
+        .map(|p| {
+            let (x, y) = p.split_once(',').expect("a point to crop is x,y in mm");
+            [
+                x.parse::<f64>().expect("x in mm") * 1e-3,
+                y.parse::<f64>().expect("y in mm") * 1e-3,
+            ]
+        })
+        .collect();
+    let centres = if asked.is_empty() { centres } else { asked };
     let half = (2.0 * l * frame.scale) as i64;
     // Crops are drawn about 30 px per mm at any scale, so outlines stay apart.
     let zoom = (30.0 / px_per_mm).ceil().max(3.0) as u32;
