@@ -1664,13 +1664,18 @@ mod tests {
             .collect()
     }
 
+    /// Every true pose has a rod within a pixel of it, turned from it by less than 0.03.
     fn assert_found(found: &[Found], truth: &[Pose]) {
-        for t in truth {
-            let near = found.iter().any(|g| {
-                (g.pose.x - t.x).hypot(g.pose.y - t.y) < 1.0 && turn(g.pose.phi, t.phi) < 0.03
-            });
+        assert_found_by(found, truth, |g, t| {
+            (g.x - t.x).hypot(g.y - t.y) < 1.0 && turn(g.phi, t.phi) < 0.03
+        });
+    }
+
+    /// Every true pose has a rod that `matches` it.
+    fn assert_found_by(found: &[Found], truth: &[Pose], matches: impl Fn(Pose, Pose) -> bool) {
+        for &t in truth {
             assert!(
-                near,
+                found.iter().any(|g| matches(g.pose, t)),
                 "{t:?} not among {:?}",
                 found.iter().map(|g| g.pose).collect::<Vec<_>>()
             );
@@ -1699,17 +1704,9 @@ mod tests {
         assert_eq!(found.len(), 4);
         // Refined one after another, each rod of a row touching end to end is pushed a pixel
         // or so along by the one before it: a tenth of a length against the half undone.
-        for t in truth {
-            assert!(
-                found.iter().any(|g| {
-                    (g.pose.x - t.x).abs() < 0.1 * LENGTH
-                        && (g.pose.y - t.y).abs() < 1.0
-                        && turn(g.pose.phi, t.phi) < 0.03
-                }),
-                "{t:?} not among {:?}",
-                found.iter().map(|g| g.pose).collect::<Vec<_>>()
-            );
-        }
+        assert_found_by(&found, &truth, |g, t| {
+            (g.x - t.x).abs() < 0.1 * LENGTH && (g.y - t.y).abs() < 1.0 && turn(g.phi, t.phi) < 0.03
+        });
     }
 
     /// Two short rods face to face, fitted as one rod turned by a right angle across them
