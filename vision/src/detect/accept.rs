@@ -285,7 +285,15 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             length,
             width,
         };
-        chains::repair(&mut found, &mut maps, &cx);
+        let first: Vec<Pose> = found.iter().map(|f| f.pose).collect();
+        let all = 0..found.len();
+        chains::repair(&mut found, &mut maps, &cx, all);
+        // A row repaired may leave its neighbour row's stub at a rod it moved, or move a rod
+        // of a row whose repair it blocked (each rod is repaired once a pass): rows near the
+        // rods it moved are looked at once more.
+        let again = near_moved(&found, &first, 2.0 * length);
+        chains::repair(&mut found, &mut maps, &cx, again.into_iter());
+        let rows: Vec<Pose> = found.iter().map(|f| f.pose).collect();
         // The seeds that failed to the end mark the dark area no rod could explain. Before
         // the turned-rod repair, whose cases it mostly covers too: lab rod53 at 10 px/mm
         // 2.48 degrees instead of 2.99 after it.
@@ -323,8 +331,26 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
             .filter(|&g| before.get(g) != Some(&found[g].pose))
             .collect();
         across(&mut found, &mut maps, changed);
+        // A rod moved by a later repair may uncover the stub of a row shifted along itself
+        // that the row repairs before could not see: rows near a moved rod are looked at again.
+        let again = near_moved(&found, &rows, 2.0 * length);
+        chains::repair(&mut found, &mut maps, &cx, again.into_iter());
     }
     found
+}
+
+/// The rods within `reach` of a rod moved or added since `old` (the poses then, in order).
+fn near_moved(found: &[Found], old: &[Pose], reach: f64) -> Vec<usize> {
+    let moved: Vec<Pose> = (0..found.len())
+        .filter(|&g| old.get(g) != Some(&found[g].pose))
+        .map(|g| found[g].pose)
+        .collect();
+    (0..found.len())
+        .filter(|&g| {
+            let p = found[g].pose;
+            moved.iter().any(|m| (m.x - p.x).hypot(m.y - p.y) < reach)
+        })
+        .collect()
 }
 
 /// Brings the coarse maps (`explained`, and `free` with its border) up to date after the grains
@@ -438,5 +464,28 @@ mod tests {
             }
             assert!(explained.data.iter().any(|&e| e > 0.0));
         }
+    }
+
+    /// The rods looked at again after a repair pass are those near a rod it moved or added,
+    /// the moved and added ones among them, and no others.
+    #[test]
+    fn rods_near_those_moved_or_added_are_looked_at_again() {
+        let rod = |x: f64| Found {
+            pose: Pose {
+                x,
+                y: 50.0,
+                phi: 0.0,
+            },
+            corners: [(0.0, 0.0); 4],
+            confidence: 0.9,
+        };
+        let old: Vec<Pose> = [0.0, 40.0, 80.0, 200.0, 240.0, 400.0]
+            .map(|x| rod(x).pose)
+            .to_vec();
+        let mut found: Vec<Found> = old.iter().map(|p| rod(p.x)).collect();
+        assert!(near_moved(&found, &old, 50.0).is_empty(), "nothing moved");
+        found[1] = rod(45.0);
+        found.push(rod(420.0));
+        assert_eq!(near_moved(&found, &old, 50.0), [0, 1, 2, 5, 6]);
     }
 }
