@@ -152,8 +152,8 @@ const EDGE_ROOM: f64 = 0.4;
 const LEAST_STUB: f64 = 0.2;
 
 /// Repairs rows of rods shifted along themselves; `found` and `maps` are updated together.
-/// Rods are looked at in the order found, each repaired at most once, so the outcome does
-/// not depend on the thread count. Returns the number of rows repaired.
+/// The rods `tried` are looked at in their order, each repaired at most once, so the outcome
+/// does not depend on the thread count. Returns the number of rows repaired.
 pub fn repair(
     found: &mut Vec<Found>,
     maps: &mut Maps,
