@@ -327,9 +327,7 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         chains::repair_unexplained(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
         // A rod added at an unexplained spot may be turned across rods face to face as the
         // first fits were: those it added or refitted are looked at again.
-        let changed = (0..found.len())
-            .filter(|&g| before.get(g) != Some(&found[g].pose))
-            .collect();
+        let changed = moved_since(&found, &before).collect();
         across(&mut found, &mut maps, changed);
         // A rod moved by a later repair may uncover the stub of a row shifted along itself
         // that the row repairs before could not see: rows near a moved rod are looked at again.
@@ -339,12 +337,14 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
     found
 }
 
+/// The rods moved or added since `old` (the poses then, in order).
+fn moved_since<'a>(found: &'a [Found], old: &'a [Pose]) -> impl Iterator<Item = usize> + 'a {
+    (0..found.len()).filter(|&g| old.get(g) != Some(&found[g].pose))
+}
+
 /// The rods within `reach` of a rod moved or added since `old` (the poses then, in order).
 fn near_moved(found: &[Found], old: &[Pose], reach: f64) -> Vec<usize> {
-    let moved: Vec<Pose> = (0..found.len())
-        .filter(|&g| old.get(g) != Some(&found[g].pose))
-        .map(|g| found[g].pose)
-        .collect();
+    let moved: Vec<Pose> = moved_since(found, old).map(|g| found[g].pose).collect();
     (0..found.len())
         .filter(|&g| {
             let p = found[g].pose;

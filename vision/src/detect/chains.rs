@@ -1732,24 +1732,35 @@ mod tests {
     /// its other end: the row is put back and the cut rod added.
     #[test]
     fn a_row_shifted_into_the_edge_is_put_back_and_its_cut_rod_added() {
-        let at = |x: f64| Pose {
-            x,
+        let (repaired, found, truth) = row_repaired(&[0.0, 1.0, 2.0, 3.0], &[0.5, 1.5, 2.5]);
+        assert_eq!(repaired, 1);
+        assert_eq!(found.len(), 4);
+        assert_row_found(&found, &truth);
+    }
+
+    /// Rods at `truth` and a row fitted at `fitted` (both in lengths along y = 90 px, from the
+    /// photograph's left edge), after the row-shift repair: the rows repaired, the rods, and
+    /// the true poses.
+    fn row_repaired(truth: &[f64], fitted: &[f64]) -> (usize, Vec<Found>, Vec<Pose>) {
+        let at = |k: f64| Pose {
+            x: k * LENGTH,
             y: 90.0,
             phi: 0.0,
         };
-        let truth = [0.0, 1.0, 2.0, 3.0].map(|k| at(k * LENGTH));
+        let truth: Vec<Pose> = truth.iter().map(|&k| at(k)).collect();
         let scene = Scene::of(&truth);
         let cx = scene.cx();
-        let mut found: Vec<Found> = [0.5, 1.5, 2.5]
-            .iter()
-            .map(|k| scene.found(at(k * LENGTH), 0.9))
-            .collect();
+        let mut found: Vec<Found> = fitted.iter().map(|&k| scene.found(at(k), 0.9)).collect();
         let mut maps = painted(&found, &[], &cx);
-        assert_eq!(repair(&mut found, &mut maps, &cx, 0..3), 1);
-        assert_eq!(found.len(), 4);
-        // Refined one after another, each rod of a row touching end to end is pushed a pixel
-        // or so along by the one before it: a tenth of a length against the half undone.
-        assert_found_by(&found, &truth, |g, t| {
+        let repaired = repair(&mut found, &mut maps, &cx, 0..fitted.len());
+        (repaired, found, truth)
+    }
+
+    /// Every true pose of a row has a rod along it. Refined one after another, each rod of a
+    /// row touching end to end is pushed a pixel or so along by the one before it: a tenth of
+    /// a length against the half undone.
+    fn assert_row_found(found: &[Found], truth: &[Pose]) {
+        assert_found_by(found, truth, |g, t| {
             (g.x - t.x).abs() < 0.1 * LENGTH && (g.y - t.y).abs() < 1.0 && turn(g.phi, t.phi) < 0.03
         });
     }
@@ -1760,24 +1771,10 @@ mod tests {
     /// the whole repair).
     #[test]
     fn a_row_shifted_out_of_the_edge_is_put_back_without_a_rod_outside() {
-        let at = |x: f64| Pose {
-            x,
-            y: 90.0,
-            phi: 0.0,
-        };
-        let truth = [0.5, 1.5, 2.5].map(|k| at(k * LENGTH));
-        let scene = Scene::of(&truth);
-        let cx = scene.cx();
-        let mut found: Vec<Found> = [0.05, 1.05, 2.05]
-            .iter()
-            .map(|k| scene.found(at(k * LENGTH), 0.9))
-            .collect();
-        let mut maps = painted(&found, &[], &cx);
-        assert_eq!(repair(&mut found, &mut maps, &cx, 0..3), 1);
+        let (repaired, found, truth) = row_repaired(&[0.5, 1.5, 2.5], &[0.05, 1.05, 2.05]);
+        assert_eq!(repaired, 1);
         assert_eq!(found.len(), 3, "no rod added outside the photograph");
-        assert_found_by(&found, &truth, |g, t| {
-            (g.x - t.x).abs() < 0.1 * LENGTH && (g.y - t.y).abs() < 1.0 && turn(g.phi, t.phi) < 0.03
-        });
+        assert_row_found(&found, &truth);
     }
 
     /// A row runs on through a rod turned 7 degrees from it (as the edge's cut rods are
