@@ -293,6 +293,11 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         // rods it moved are looked at once more.
         let again = near_moved(&found, &first, 2.0 * length);
         chains::repair(&mut found, &mut maps, &cx, again.into_iter());
+        // After the rows, which a rod fitted centred outside the frame can hide from their
+        // repair, and before the rest, which look for what it leaves: lab rod53 at 6 px/mm
+        // 2.95 -> 2.51 degrees on seed 1 and 2.33 -> 1.74 on seed 2, rod3 at 10 px/mm
+        // 99.49 -> 99.55 % recall on seed 1 (seed 3 unchanged).
+        chains::repair_outside(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
         let rows: Vec<Pose> = found.iter().map(|f| f.pose).collect();
         // The seeds that failed to the end mark the dark area no rod could explain. Before
         // the turned-rod repair, whose cases it mostly covers too: lab rod53 at 10 px/mm

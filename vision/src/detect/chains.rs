@@ -11,8 +11,10 @@
 //! together with a rod at that seed. Short rods lying face to face may be fitted by one rod
 //! turned by a right angle across them (rod53: most of the orientation error): refitted as the
 //! rods they are. A rod accepted with a low agreement, most often fitted turned away from its
-//! angle, is fitted afresh over every angle. Each repair is kept only when it explains the
-//! photograph better (total score).
+//! angle, is fitted afresh over every angle. A rod fitted centred outside the photograph
+//! across what the edge leaves of rods it cuts is refitted with the rods inside near it
+//! (`chains/outside.rs`). Each repair is kept only when it explains the photograph better (total
+//! score).
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -25,8 +27,10 @@ use super::model::{Model, Pose};
 use super::plane::{Bordered, Plane};
 
 mod highlights;
+mod outside;
 mod unexplained;
 pub use highlights::repair_across_highlights;
+pub use outside::repair_outside;
 pub use unexplained::repair_unexplained;
 
 /// The maps the acceptance keeps: explained opacity and the darkness it leaves free.
@@ -389,8 +393,19 @@ impl Window {
         other.c0 >= self.c0 && other.c1 <= self.c1 && other.r0 >= self.r0 && other.r1 <= self.r1
     }
 
-    /// The smallest window holding both.
+    /// Whether the window holds no pixel: the box of a pose wholly outside the plane.
+    fn is_empty(self) -> bool {
+        self.c0 > self.c1 || self.r0 > self.r1
+    }
+
+    /// The smallest window holding both (an empty one adds nothing).
     fn union(self, other: Window) -> Window {
+        if other.is_empty() {
+            return self;
+        }
+        if self.is_empty() {
+            return other;
+        }
         Window {
             c0: self.c0.min(other.c0),
             c1: self.c1.max(other.c1),
@@ -2242,5 +2257,76 @@ mod tests {
         assert_eq!(repaired, 1);
         assert_eq!(found.len(), 5);
         assert_found(&found, &truth);
+    }
+
+    /// The acceptance's offsets about a seed anywhere on a rod's axis.
+    fn residual_offsets() -> Vec<(f64, f64)> {
+        let along = [-3.0, -2.0, -1.0, 0.0, 1.0, 2.0, 3.0].map(|k| k / 6.0 * LENGTH);
+        let across = [-0.5, -0.25, 0.0, 0.25, 0.5].map(|k| k * WIDTH);
+        along
+            .iter()
+            .flat_map(|&a| across.iter().map(move |&b| (a, b)))
+            .collect()
+    }
+
+    /// A column of two rods standing on the bottom edge of a 200 x 180 px photograph, the
+    /// lower one cut by it (0.7 of it seen); and the rods fitted there: the upper one shifted
+    /// a third of a length down onto the cut one, and a rod centred outside the photograph
+    /// (0.3 of it seen) over what is left of the cut one.
+    fn cut_column() -> ([Pose; 2], [Pose; 2]) {
+        let at = |y| Pose {
+            x: 100.0,
+            y,
+            phi: std::f64::consts::FRAC_PI_2,
+        };
+        (
+            [at(121.0), at(170.0)],
+            [at(121.0 + LENGTH / 3.0), at(190.0)],
+        )
+    }
+
+    /// The rods of [`cut_column`] fitted wrong: the rod outside is taken away and the column
+    /// put back, the same on one, two and three threads.
+    #[test]
+    fn a_rod_fitted_centred_outside_over_a_cut_rod_is_taken_away_and_the_column_put_back() {
+        let (truth, wrong) = cut_column();
+        let scene = Scene::sized(&truth, 200, 180);
+        let cx = scene.cx();
+        let offsets = residual_offsets();
+        let on = |threads: usize| {
+            let found = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+            on_threads(threads, &cx, found, |found, maps| {
+                repair_outside(found, maps, &cx, &offsets, 4.5)
+            })
+        };
+        let one = on(1);
+        assert_eq!(one.0, 1, "the rod outside repaired");
+        let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
+        assert_eq!(rods.len(), 2, "{:?}", one.1);
+        assert_found(&rods, &truth);
+        for threads in [2, 3] {
+            assert!(on(threads) == one, "{threads} threads differ from one");
+        }
+    }
+
+    /// The rods of [`cut_column`] at their true poses, and a true rod centred outside the
+    /// photograph (0.3 of it seen) beside them: left as they are.
+    #[test]
+    fn a_true_rod_centred_outside_is_kept() {
+        let (column, _) = cut_column();
+        let mut truth = column.to_vec();
+        truth.push(Pose {
+            x: 150.0,
+            y: 190.0,
+            phi: std::f64::consts::FRAC_PI_2,
+        });
+        let scene = Scene::sized(&truth, 200, 180);
+        let cx = scene.cx();
+        let mut found: Vec<Found> = truth.iter().map(|&p| scene.found(p, 0.9)).collect();
+        let mut maps = painted(&found, &[], &cx);
+        let repaired = repair_outside(&mut found, &mut maps, &cx, &residual_offsets(), 4.5);
+        assert_eq!(repaired, 0);
+        let poses: Vec<Pose> = found.iter().map(|g| g.pose).collect();
+        assert_eq!(poses, truth);
     }
 }
