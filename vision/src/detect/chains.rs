@@ -570,6 +570,23 @@ impl<'m> Local<'m> {
         )
     }
 
+    /// Takes the rods `rods` off the maps together (as [`Local::unpaint`], none repainting
+    /// another) and returns the total their poses score on what is left: the figure a set
+    /// trial's fits must beat.
+    fn take_off_set(&mut self, found: &[Found], rods: &[usize], cx: &Context) -> f64 {
+        for &k in rods {
+            self.unpaint(found, k, rods, cx);
+        }
+        rods.iter()
+            .map(|&k| {
+                let score = cx
+                    .model
+                    .score(found[k].pose, cx.levels.fine, &self.maps.free_bordered);
+                f64::from(score.total)
+            })
+            .sum()
+    }
+
     /// Paints a fit's pose within its box `b`, on both levels.
     fn place(&mut self, pose: Pose, b: Window, cx: &Context) {
         self.paint(pose, b, cx);
@@ -1258,18 +1275,7 @@ fn refit_together(
         })
         .reduce(Window::union)?;
     let saved = local.save(window);
-    for &k in rods {
-        local.unpaint(found, k, rods, cx);
-    }
-    let old_total: f64 = rods
-        .iter()
-        .map(|&k| {
-            let score = cx
-                .model
-                .score(found[k].pose, cx.levels.fine, &local.maps.free_bordered);
-            f64::from(score.total)
-        })
-        .sum();
+    let old_total = local.take_off_set(found, rods, cx);
     let mut fitted = Vec::with_capacity(rods.len() + 2);
     let mut new_total = 0.0;
     for spot in spots {

@@ -100,18 +100,7 @@ impl Outside<'_> {
             })
             .reduce(Window::union)?;
         let saved = local.save(window);
-        for &k in &rods {
-            local.unpaint(found, k, &rods, cx);
-        }
-        let old_total: f64 = rods
-            .iter()
-            .map(|&k| {
-                let score =
-                    cx.model
-                        .score(found[k].pose, cx.levels.fine, &local.maps.free_bordered);
-                f64::from(score.total)
-            })
-            .sum();
+        let old_total = local.take_off_set(found, &rods, cx);
         let mut new_total = 0.0;
         let mut fits = Vec::with_capacity(rods.len() + 2);
         let mut fit_at = |local: &mut Local, at: (f64, f64), least: f32| {
