@@ -740,8 +740,8 @@ trait SetTrials: Sync {
     /// What picks a trial's rods besides the maps: the rods (see [`SetTrials::rods`]) and
     /// whatever else the trial depends on.
     type Near: PartialEq + Send;
-    /// What a trial kept, of which [`SetTrials::parts`] tells the rods and the fits.
-    type Kept: Clone + Send;
+    /// What a trial kept, of which [`Parts::parts`] tells the rods and the fits.
+    type Kept: Clone + Send + Parts<Self::Near>;
     /// Whether `item` is passed over, the rods `touched` being repaired already.
     fn passed_over(&self, item: &Self::Item, touched: &[bool]) -> bool;
     /// What picks the trial about `item`, the rods `touched` left out.
@@ -772,13 +772,20 @@ trait SetTrials: Sync {
         item: &Self::Item,
         cx: &Context,
     ) -> Self::Kept;
-    /// The rods a kept trial took off and the fits it painted; none of either when it kept
-    /// nothing.
-    fn parts<'k>(
-        &self,
-        kept: &'k Self::Kept,
-        near: &'k Self::Near,
-    ) -> (&'k [usize], &'k [fit::Fitted]);
+}
+
+/// What a [`SetTrials`] trial kept, read as the rods it took off and the fits it painted;
+/// none of either when it kept nothing. `near` is what picked the trial's rods.
+trait Parts<N> {
+    fn parts<'k>(&'k self, near: &'k N) -> (&'k [usize], &'k [fit::Fitted]);
+}
+
+/// The rods taken off and the fits of a trial that keeps them as they are.
+impl<N> Parts<N> for Option<(Vec<usize>, Vec<fit::Fitted>)> {
+    fn parts<'k>(&'k self, _: &'k N) -> (&'k [usize], &'k [fit::Fitted]) {
+        self.as_ref()
+            .map_or((&[], &[]), |(set, fits)| (set.as_slice(), fits.as_slice()))
+    }
 }
 
 /// A [`SetTrials`] trial worked out ahead: what picked its rods and their poses then, what
@@ -788,12 +795,6 @@ struct SetGuess<N, K> {
     poses: Vec<Pose>,
     reads: Window,
     kept: K,
-}
-
-/// The rods taken off and the fits of a trial that keeps them as they are.
-fn set_and_fits(kept: &Option<(Vec<usize>, Vec<fit::Fitted>)>) -> (&[usize], &[fit::Fitted]) {
-    kept.as_ref()
-        .map_or((&[], &[]), |(set, fits)| (set.as_slice(), fits.as_slice()))
 }
 
 /// `trial` about each of `items` in order, each kept one taken over ([`take_over`]). The
@@ -840,7 +841,7 @@ fn in_order<T: SetTrials>(
             Some(guess) => guess.kept.clone(),
             None => trial.run(local, found, &near, item, cx),
         };
-        let (off, fits) = trial.parts(&kept, &near);
+        let (off, fits) = kept.parts(&near);
         if fits.is_empty() {
             continue;
         }
@@ -1088,10 +1089,14 @@ enum Refit {
     None,
 }
 
-impl Refit {
-    /// The rods a kept trial took off (of `rods`, the doubtful one first) and the fits it
-    /// painted; none of either when it kept nothing.
-    fn parts<'r>(&'r self, rods: &'r [usize]) -> (&'r [usize], &'r [fit::Fitted]) {
+/// The rods a kept trial took off (of the rods picked, the doubtful one first) and the fits
+/// it painted.
+impl Parts<(Vec<usize>, Option<f64>)> for Refit {
+    fn parts<'r>(
+        &'r self,
+        near: &'r (Vec<usize>, Option<f64>),
+    ) -> (&'r [usize], &'r [fit::Fitted]) {
+        let rods = &near.0;
         match self {
             Refit::Together(fits) => (rods, fits),
             Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
@@ -1225,14 +1230,6 @@ impl SetTrials for Doubtful<'_> {
         let kept = cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total;
         local.restore(window, &saved);
         if kept { Refit::Alone(ft) } else { Refit::None }
-    }
-
-    fn parts<'k>(
-        &self,
-        kept: &'k Refit,
-        near: &'k (Vec<usize>, Option<f64>),
-    ) -> (&'k [usize], &'k [fit::Fitted]) {
-        kept.parts(&near.0)
     }
 }
 

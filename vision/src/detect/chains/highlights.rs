@@ -11,7 +11,7 @@
 
 use super::{
     Context, Found, Local, Maps, SetTrials, Spot, Window, fit, fit_reads, in_order, nearest,
-    refit_together, set_and_fits, turn,
+    refit_together, turn,
 };
 use crate::detect::model::Pose;
 use crate::detect::ridges::AxisSeed;
@@ -329,14 +329,6 @@ impl<'a> SetTrials for Across<'a> {
             (f, r) => f.or(r),
         };
         best.map(|(set, (fits, _))| (set, fits))
-    }
-
-    fn parts<'k>(
-        &self,
-        kept: &'k Self::Kept,
-        _: &'k (Vec<usize>, usize),
-    ) -> (&'k [usize], &'k [fit::Fitted]) {
-        set_and_fits(kept)
     }
 }
 

@@ -8,7 +8,7 @@
 //! afresh, innermost first, the rod outside last in what they leave.
 
 use super::{
-    Context, Found, Local, Maps, SetTrials, Window, fit, fit_reads, in_order, set_and_fits, turn,
+    Context, Found, Local, Maps, SetTrials, Window, fit, fit_reads, in_order, turn,
     unexplained_near,
 };
 use crate::detect::model::Pose;
@@ -257,14 +257,6 @@ impl SetTrials for Outside<'_> {
                 .then(|| self.refit(local, found, inside, g, cx))
                 .flatten()
         })
-    }
-
-    fn parts<'k>(
-        &self,
-        kept: &'k Self::Kept,
-        _: &'k Vec<usize>,
-    ) -> (&'k [usize], &'k [fit::Fitted]) {
-        set_and_fits(kept)
     }
 }
 

@@ -5,7 +5,7 @@
 
 use super::{
     Context, Found, Local, Maps, SetTrials, Spot, Window, fit, in_order, nearest, refit_together,
-    set_and_fits, unexplained_near,
+    unexplained_near,
 };
 use crate::detect::plane::Plane;
 
@@ -189,14 +189,6 @@ impl SetTrials for Spots<'_> {
             }
         }
         None
-    }
-
-    fn parts<'k>(
-        &self,
-        kept: &'k Self::Kept,
-        _: &'k Vec<usize>,
-    ) -> (&'k [usize], &'k [fit::Fitted]) {
-        set_and_fits(kept)
     }
 }
 
