@@ -1,0 +1,207 @@
+//! Rods accepted with a low agreement: fitted afresh, alone or with the rods turned like them.
+
+use super::{
+    Context, Found, Local, Maps, Parts, SetTrials, Window, fit, fit_reads, in_order,
+    refit_together, turn,
+};
+
+/// Agreement below which [`repair_doubtful`] fits a rod afresh. Rods fitted at the right
+/// pose agree at 0.85-0.95 (lab, rod53 at 10 px/mm); the ones fitted turned by 10-30 degrees
+/// agreed at 0.55-0.60.
+pub(super) const DOUBTFUL: f64 = 0.75;
+
+/// A rod accepted with a low agreement was often fitted turned away from its true angle,
+/// from a seed whose highlight lay along a gap, or before its neighbours took their places.
+/// Each such rod, in the order found, is taken off and fitted afresh at its centre over every
+/// angle against the maps as they are now, its neighbours painted; the new fit is kept when
+/// it passes the acceptance and scores more than the old pose on the same maps.
+///
+/// With rods turned the same way within a length of it, and a rod turned otherwise within
+/// 1.5 lengths (the rows around), the doubtful rod may be one of two fitted across the three
+/// rods really there (lab, rod3 at 10 px/mm: two rods at 62 degrees, agreements 0.70 and
+/// 0.94, over three lying face to face), the other holding it in place. They are first taken
+/// off together and fitted afresh ([`refit_together`]), once at the rows' angle and once at
+/// any, and the trial that scores more is kept; only when neither is kept is the doubtful rod
+/// refitted alone.
+///
+/// The trials are worked out ahead in parallel on copies of the maps (they took a seventh of
+/// a rod photograph's time one after another: each fits three to six rods over every angle);
+/// the rods are then looked at in order, each taking its trial's guess unless a repair kept
+/// before it changed the rods it would refit or what the guess read, as in [`repair_turned`].
+pub fn repair_doubtful(
+    found: &mut Vec<Found>,
+    maps: &mut Maps,
+    cx: &Context,
+    offsets: &[(f64, f64)],
+    step: f64,
+) -> usize {
+    let factor = cx.levels.factor as usize;
+    let mut local = Local::new(maps, factor);
+    let trial = Doubtful {
+        offsets,
+        step,
+        reach: cx.trial_reach(),
+        reads: fit_reads(cx, offsets, step),
+    };
+    let doubtful: Vec<usize> = (0..found.len())
+        .filter(|&g| found[g].confidence < DOUBTFUL)
+        .collect();
+    in_order(&trial, &doubtful, found, &mut local, cx)
+}
+
+/// What a doubtful rod's trial kept: the rods refitted together, the doubtful rod alone, or
+/// nothing.
+#[derive(Clone)]
+enum Refit {
+    Together(Vec<fit::Fitted>),
+    Alone(fit::Fitted),
+    None,
+}
+
+/// The rods a kept trial took off (of the rods picked, the doubtful one first) and the fits
+/// it painted.
+impl Parts<(Vec<usize>, Option<f64>)> for Refit {
+    fn parts<'r>(
+        &'r self,
+        near: &'r (Vec<usize>, Option<f64>),
+    ) -> (&'r [usize], &'r [fit::Fitted]) {
+        let rods = &near.0;
+        match self {
+            Refit::Together(fits) => (rods, fits),
+            Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
+            Refit::None => (&[], &[]),
+        }
+    }
+}
+
+/// The settings of [`repair_doubtful`]'s trials.
+struct Doubtful<'a> {
+    offsets: &'a [(f64, f64)],
+    step: f64,
+    /// Half side of the window a trial may change around each rod.
+    reach: f64,
+    /// How far from its seed a fit may read.
+    reads: f64,
+}
+
+impl SetTrials for Doubtful<'_> {
+    /// A doubtful rod.
+    type Item = usize;
+    type Near = (Vec<usize>, Option<f64>);
+    type Kept = Refit;
+
+    fn passed_over(&self, &g: &usize, touched: &[bool]) -> bool {
+        touched[g]
+    }
+
+    /// The rods refitted with the doubtful rod `g` (it first, then the untouched rods turned
+    /// like it within a length), and the angle of the nearest rod around them turned
+    /// otherwise (the rows there), if one lies within 1.5 lengths.
+    fn near(
+        &self,
+        found: &[Found],
+        touched: &[bool],
+        &g: &usize,
+        cx: &Context,
+    ) -> (Vec<usize>, Option<f64>) {
+        let old = found[g].pose;
+        let rods: Vec<usize> = std::iter::once(g)
+            .chain((0..found.len()).filter(|&h| {
+                let p = found[h].pose;
+                h != g
+                    && !touched[h]
+                    && (p.x - old.x).hypot(p.y - old.y) < cx.length
+                    && turn(p.phi, old.phi) < PARALLEL_DEG.to_radians()
+            }))
+            .collect();
+        let around = (0..found.len())
+            .filter(|&h| !rods.contains(&h))
+            .map(|h| (found[h].pose, h))
+            .filter(|(p, _)| turn(p.phi, old.phi) >= PARALLEL_DEG.to_radians())
+            .map(|(p, h)| ((p.x - old.x).hypot(p.y - old.y), h))
+            .filter(|&(d, _)| d < 1.5 * cx.length)
+            .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)))
+            .map(|(_, h)| found[h].pose.phi);
+        (rods, around)
+    }
+
+    fn rods<'n>(&self, near: &'n (Vec<usize>, Option<f64>)) -> &'n [usize] {
+        &near.0
+    }
+
+    /// What a trial about the rods reads, of either level: fits at each rod's centre and at
+    /// the middle of what they leave unexplained (within a length of their mean centre).
+    fn reads(
+        &self,
+        local: &Local,
+        found: &[Found],
+        (rods, _): &(Vec<usize>, Option<f64>),
+        _: &usize,
+        cx: &Context,
+    ) -> Window {
+        let free = &local.maps.free;
+        let r = self.reads;
+        let n = rods.len() as f64;
+        let (mx, my) = rods.iter().fold((0.0, 0.0), |(x, y), &k| {
+            (x + found[k].pose.x / n, y + found[k].pose.y / n)
+        });
+        let far = cx.length + r;
+        rods.iter()
+            .map(|&k| Window::around(found[k].pose.x, found[k].pose.y, r, r, free))
+            .fold(Window::around(mx, my, far, far, free), Window::union)
+    }
+
+    /// The trial: the rods taken off together and fitted afresh, once at the rows' angle and
+    /// once at any, the trial that scores more kept ([`refit_together`]); when neither is
+    /// (or the rod has no parallel neighbour, or no rows around), the doubtful rod alone
+    /// fitted afresh at its centre over every angle, kept when it passes the acceptance and
+    /// scores more than its old pose on the same maps. The maps are left as they were.
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        &(ref rods, around): &(Vec<usize>, Option<f64>),
+        _: &usize,
+        cx: &Context,
+    ) -> Refit {
+        // At the rows' angle and at any: a block of rods face to face fits rods of either
+        // angle, and the rows around may tell which. Rods turned like every rod around them
+        // are a row, not rods fitted across one: not tried together.
+        if rods.len() > 1 && around.is_some() {
+            let search = (self.offsets, self.step, self.reach);
+            let mut best: Option<(Vec<fit::Fitted>, f64)> = None;
+            for axis in around.map(Some).into_iter().chain([None]) {
+                let Some((fits, gain)) = refit_together(local, found, rods, cx, search, axis, &[])
+                else {
+                    continue;
+                };
+                if best.as_ref().is_none_or(|(_, b)| gain > *b) {
+                    best = Some((fits, gain));
+                }
+            }
+            if let Some((fits, _)) = best {
+                return Refit::Together(fits);
+            }
+        }
+        let g = rods[0];
+        let old = found[g].pose;
+        let window = Window::around(old.x, old.y, self.reach, self.reach, &local.maps.free);
+        let saved = local.save(window);
+        let old_total = local.take_off(found, g, cx);
+        let ft = fit::fit(
+            &local.levels(cx),
+            (old.x, old.y),
+            self.offsets,
+            self.step,
+            None,
+        );
+        let b = local.box_of(ft.pose, cx.model);
+        let kept = cx.passes(&ft, b, window) && f64::from(ft.score.total) > old_total;
+        local.restore(window, &saved);
+        if kept { Refit::Alone(ft) } else { Refit::None }
+    }
+}
+
+/// Rods turned by less than this (degrees) from a doubtful rod, and within a length of it,
+/// are refitted together with it; a rod turned by more is one of the rows around.
+const PARALLEL_DEG: f64 = 15.0;

@@ -1,0 +1,182 @@
+//! Rods fitted at a right angle across rods lying face to face: refitted as those rods.
+
+use super::{
+    Context, Found, Guess, Local, Maps, Window, changed_by, fit, fit_reads, replay, speculate,
+    usable,
+};
+use crate::detect::model::Pose;
+
+/// A rod fitted across the ends of n = L/D (rounded) rods lying face to face at right angles
+/// to it leaves their remainder unexplained beside it. Such a rod, with at least a third of a
+/// rod's area of unexplained dark area in the block the n rods would fill, is refitted as n
+/// rods turned by a right angle, kept when they explain the photograph better. Each trial
+/// changes the maps in a window around the rod only, and is undone there when not kept.
+/// The trials are worked out ahead in parallel on copies of the maps; the rods are then
+/// looked at in order, each taking its trial's guess unless a repair kept before it changed
+/// what the guess read: the outcome is the sequential one whatever the thread count.
+pub fn repair_turned(
+    found: &mut Vec<Found>,
+    maps: &mut Maps,
+    cx: &Context,
+    offsets: &[(f64, f64)],
+    step: f64,
+) -> usize {
+    let (length, width) = (cx.length, cx.width);
+    let n = (length / width).round().max(2.0) as usize;
+    let factor = cx.levels.factor as usize;
+    let mut local = Local::new(maps, factor);
+    let trial = Turned {
+        n,
+        half_u: 0.5 * (n as f64 * width).max(length),
+        half_v: 0.5 * length,
+        least: length * width / 3.0,
+        reach: cx.trial_reach(),
+        offsets,
+        step,
+        // The n seeds lie along the rod, at most (n - 1) / 2 widths from its centre.
+        reads: 0.5 * (n as f64 - 1.0) * width + fit_reads(cx, offsets, step),
+    };
+    let rods: Vec<usize> = (0..found.len()).collect();
+    let before: &[Found] = found;
+    let guesses = speculate(&rods, &local, |local, &g| {
+        let found = before;
+        let pose = found[g].pose;
+        trial.crowded(local, pose).then(|| Guess {
+            rod: g,
+            pose,
+            reads: trial.reads(local, pose),
+            kept: trial.run(local, found, g, cx, true),
+        })
+    });
+    let mut changed: Vec<Window> = Vec::new();
+    let mut touched = vec![false; found.len()];
+    let mut repaired = 0;
+    for g in rods {
+        if touched[g] {
+            continue;
+        }
+        let p = found[g].pose;
+        if !trial.crowded(&local, p) {
+            continue;
+        }
+        let guess = guesses
+            .as_ref()
+            .and_then(|all| all[g].as_ref())
+            .and_then(|guess| usable(std::slice::from_ref(guess), g, p, &changed));
+        let fitted = match guess {
+            Some(guess) => guess.kept.clone().inspect(|fits| {
+                changed.push(replay(&mut local, found, &[g], fits, cx));
+            }),
+            None => trial.run(&mut local, found, g, cx, false).inspect(|fits| {
+                changed.push(changed_by(&local, p, fits, cx));
+            }),
+        };
+        let Some(fitted) = fitted else {
+            continue;
+        };
+        for (k, ft) in fitted.iter().enumerate() {
+            let r = cx.found(ft);
+            if k == 0 {
+                found[g] = r;
+                touched[g] = true;
+            } else {
+                found.push(r);
+                touched.push(true);
+            }
+        }
+        repaired += 1;
+    }
+    repaired
+}
+
+/// The settings of [`repair_turned`]'s trials.
+struct Turned<'a> {
+    n: usize,
+    /// Half sides of the block the n rods would fill, along and across the rod.
+    half_u: f64,
+    half_v: f64,
+    /// Unexplained dark area (pixels) in the block that calls for a trial.
+    least: f64,
+    /// Half side of the window a trial may change.
+    reach: f64,
+    offsets: &'a [(f64, f64)],
+    step: f64,
+    /// How far from the rod's centre a trial's fits may read.
+    reads: f64,
+}
+
+impl Turned<'_> {
+    /// Whether the block beside the rod at `p` holds at least a third of a rod's area of
+    /// unexplained dark area.
+    fn crowded(&self, local: &Local, p: Pose) -> bool {
+        let (s, c) = p.phi.sin_cos();
+        let free = &local.maps.free;
+        let mut unexplained = 0.0;
+        let mut u = -self.half_u;
+        while u <= self.half_u {
+            let mut v = -self.half_v;
+            while v <= self.half_v {
+                let (x, y) = (p.x + u * c + v * s, p.y - u * s + v * c);
+                if x >= 0.0
+                    && y >= 0.0
+                    && x < free.width as f64
+                    && y < free.height as f64
+                    && free.at(x as usize, y as usize) > 0.5
+                {
+                    unexplained += 1.0;
+                }
+                v += 1.0;
+            }
+            u += 1.0;
+        }
+        unexplained >= self.least
+    }
+
+    /// What a trial at the rod at `p` reads, of either level.
+    fn reads(&self, local: &Local, p: Pose) -> Window {
+        Window::around(p.x, p.y, self.reads, self.reads, &local.maps.free)
+    }
+
+    /// The trial at rod `g`: the n fits when kept (the maps then changed, unless `undo`),
+    /// otherwise nothing (the maps as they were).
+    fn run(
+        &self,
+        local: &mut Local,
+        found: &[Found],
+        g: usize,
+        cx: &Context,
+        undo: bool,
+    ) -> Option<Vec<fit::Fitted>> {
+        let p = found[g].pose;
+        let (s, c) = p.phi.sin_cos();
+        let window = Window::around(p.x, p.y, self.reach, self.reach, &local.maps.free);
+        let saved = local.save(window);
+        let old_total = local.take_off(found, g, cx);
+        let mut new_total = 0.0;
+        let mut fitted = Vec::with_capacity(self.n);
+        let turned = p.phi + std::f64::consts::FRAC_PI_2;
+        for k in 0..self.n {
+            let a = (k as f64 - 0.5 * (self.n as f64 - 1.0)) * cx.width;
+            let seed = (p.x + a * c, p.y - a * s);
+            let ft = fit::fit(
+                &local.levels(cx),
+                seed,
+                self.offsets,
+                self.step,
+                Some(turned),
+            );
+            let b = local.box_of(ft.pose, cx.model);
+            if !cx.passes(&ft, b, window) {
+                break;
+            }
+            new_total += f64::from(ft.score.total);
+            local.place(ft.pose, b, cx);
+            fitted.push(ft);
+        }
+        let kept = !(fitted.len() < self.n || new_total <= old_total);
+        if !kept || undo {
+            local.restore(window, &saved);
+        }
+        kept.then_some(fitted)
+    }
+}
