@@ -17,7 +17,7 @@
 //! - `turned.rs`: short rods lying face to face fitted by one rod turned by a right angle
 //!   across them (rod53: most of the orientation error), refitted as the rods they are.
 //! - `doubtful.rs`: a rod accepted with a low agreement, most often fitted turned away from
-//!   its angle, fitted afresh over every angle.
+//!   its angle or crossed by a rod fitted turned over it, fitted afresh.
 //! - `highlights.rs`: a rod fitted across two lying face to face, found by their highlights
 //!   turned inside it.
 //! - `unexplained.rs`: dark area no rod explains, where a rod was missed.
