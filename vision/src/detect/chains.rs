@@ -184,8 +184,7 @@ pub fn repair(
 ) -> usize {
     let (length, width) = (cx.length, cx.width);
     let half = 0.5 * length;
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
     // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
     // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
@@ -475,7 +474,9 @@ struct Local<'m> {
 }
 
 impl<'m> Local<'m> {
-    fn new(maps: &'m mut Maps, factor: usize) -> Self {
+    /// The maps a repair works on, at the coarse level's factor of `cx`.
+    fn new(maps: &'m mut Maps, cx: &Context) -> Self {
+        let factor = cx.levels.factor as usize;
         let coarse = Coarse::of(&maps.free, factor);
         Local {
             maps,

@@ -24,8 +24,7 @@ pub fn repair_crowded(
     offsets: &[(f64, f64)],
     step: f64,
 ) -> usize {
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Crowded {
         reach: cx.trial_reach(),
         offsets,

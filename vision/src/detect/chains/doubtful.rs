@@ -38,8 +38,7 @@ pub fn repair_doubtful(
     offsets: &[(f64, f64)],
     step: f64,
 ) -> usize {
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Doubtful {
         offsets,
         step,

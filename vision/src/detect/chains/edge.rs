@@ -272,8 +272,7 @@ pub fn repair_along_edge(
     if across.is_empty() {
         return 0;
     }
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = AlongEdge {
         offsets,
         step,

@@ -351,8 +351,7 @@ pub fn repair_across_highlights(
     along_axis: &[(f64, f64)],
     step: f64,
 ) -> usize {
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Across {
         offsets,
         along_axis,

@@ -278,8 +278,7 @@ pub fn repair_outside(
     if outside.is_empty() {
         return 0;
     }
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Outside {
         offsets,
         step,

@@ -23,8 +23,7 @@ pub fn repair_turned(
 ) -> usize {
     let (length, width) = (cx.length, cx.width);
     let n = (length / width).round().max(2.0) as usize;
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Turned {
         n,
         half_u: 0.5 * (n as f64 * width).max(length),

@@ -209,8 +209,7 @@ pub fn repair_unexplained(
 ) -> usize {
     let mut spots = unexplained_spots(&maps.free, cx);
     spots.truncate(((SPOTS_PER_ROD * found.len() as f64).ceil() as usize).max(FEWEST_SPOTS));
-    let factor = cx.levels.factor as usize;
-    let mut local = Local::new(maps, factor);
+    let mut local = Local::new(maps, cx);
     let trial = Spots {
         offsets,
         step,
