@@ -338,6 +338,30 @@ fn offsets(ax: f64, ay: f64, phi: f64, x: f64, y: f64) -> (f64, f64) {
     (dx * c - dy * s, dx * s + dy * c)
 }
 
+/// The edge of the photograph nearest a centre: its direction (a rod's angle lying along
+/// it), the unit normal pointing into the photograph, and the centre's distance from it
+/// (negative outside).
+struct Edge {
+    phi: f64,
+    inward: (f64, f64),
+    depth: f64,
+}
+
+fn nearest_edge(p: Pose, plane: &Plane) -> Edge {
+    let (w, h) = (plane.width as f64, plane.height as f64);
+    let right_angle = std::f64::consts::FRAC_PI_2;
+    [
+        (0.0, (0.0, 1.0), p.y),
+        (0.0, (0.0, -1.0), h - p.y),
+        (right_angle, (1.0, 0.0), p.x),
+        (right_angle, (-1.0, 0.0), w - p.x),
+    ]
+    .into_iter()
+    .map(|(phi, inward, depth)| Edge { phi, inward, depth })
+    .min_by(|a, b| a.depth.total_cmp(&b.depth))
+    .expect("four edges")
+}
+
 /// Angle between two axes, modulo half a turn.
 fn turn(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(std::f64::consts::PI);

@@ -9,7 +9,8 @@
 //! explain the photograph better.
 
 use super::{
-    Context, Found, Local, SetTrials, Window, fit, fit_reads, in_order, turn, unexplained_near,
+    Context, Found, Local, SetTrials, Window, fit, fit_reads, in_order, nearest_edge, turn,
+    unexplained_near,
 };
 use crate::detect::model::Pose;
 use crate::detect::plane::Plane;
@@ -48,30 +49,6 @@ const MOST_STUBS: usize = 2;
 /// the turned fit are scored on the same dark area. Lab rod53 at 6 px/mm, seed 1: the stub
 /// beside the rod turned at (249.1, 1.6) mm is 0.22 seen.
 const STUB_SEEN: f64 = 0.15;
-
-/// The edge of the photograph nearest a centre: its direction (a rod's angle lying along
-/// it), the unit normal pointing into the photograph, and the centre's distance from it
-/// (negative outside).
-struct Edge {
-    phi: f64,
-    inward: (f64, f64),
-    depth: f64,
-}
-
-fn nearest_edge(p: Pose, plane: &Plane) -> Edge {
-    let (w, h) = (plane.width as f64, plane.height as f64);
-    let right_angle = std::f64::consts::FRAC_PI_2;
-    [
-        (0.0, (0.0, 1.0), p.y),
-        (0.0, (0.0, -1.0), h - p.y),
-        (right_angle, (1.0, 0.0), p.x),
-        (right_angle, (-1.0, 0.0), w - p.x),
-    ]
-    .into_iter()
-    .map(|(phi, inward, depth)| Edge { phi, inward, depth })
-    .min_by(|a, b| a.depth.total_cmp(&b.depth))
-    .expect("four edges")
-}
 
 /// How far the outline of rod pose `p` reaches from its centre across an edge of direction
 /// `edge_phi`.

@@ -8,7 +8,7 @@
 //! afresh, innermost first, the rod outside last in what they leave.
 
 use super::{
-    Context, Found, Local, Maps, SetTrials, Window, fit, fit_reads, in_order, turn,
+    Context, Found, Local, Maps, SetTrials, Window, fit, fit_reads, in_order, nearest_edge, turn,
     unexplained_near,
 };
 use crate::detect::model::Pose;
@@ -48,13 +48,6 @@ fn centred_inside(p: Pose, plane: &Plane) -> bool {
     p.x >= 0.0 && p.y >= 0.0 && p.x < plane.width as f64 && p.y < plane.height as f64
 }
 
-/// How far a centre lies inside the photograph: its distance to the nearest edge.
-fn depth(p: Pose, plane: &Plane) -> f64 {
-    p.x.min(p.y)
-        .min(plane.width as f64 - p.x)
-        .min(plane.height as f64 - p.y)
-}
-
 /// The settings of [`repair_outside`]'s trials.
 struct Outside<'a> {
     offsets: &'a [(f64, f64)],
@@ -87,8 +80,9 @@ impl Outside<'_> {
         let mut rods = inside.to_vec();
         let plane = &local.maps.free;
         rods.sort_by(|&a, &b| {
-            depth(found[b].pose, plane)
-                .total_cmp(&depth(found[a].pose, plane))
+            nearest_edge(found[b].pose, plane)
+                .depth
+                .total_cmp(&nearest_edge(found[a].pose, plane).depth)
                 .then(a.cmp(&b))
         });
         rods.push(g);
