@@ -63,19 +63,27 @@ enum Refit {
 
 /// The rods a kept trial took off (of the rods picked, the doubtful one first; or the pair)
 /// and the fits it painted.
-impl Parts<(Vec<usize>, Option<f64>, Vec<usize>)> for Refit {
-    fn parts<'r>(
-        &'r self,
-        near: &'r (Vec<usize>, Option<f64>, Vec<usize>),
-    ) -> (&'r [usize], &'r [fit::Fitted]) {
-        let rods = &near.0;
+impl Parts<Picked> for Refit {
+    fn parts<'r>(&'r self, near: &'r Picked) -> (&'r [usize], &'r [fit::Fitted]) {
+        let rods = &near.rods;
         match self {
             Refit::Together(fits) => (rods, fits),
-            Refit::WithTurned(fits) => (&near.2, fits),
+            Refit::WithTurned(fits) => (&near.pair, fits),
             Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
             Refit::None => (&[], &[]),
         }
     }
+}
+
+/// What picks a doubtful rod's trials.
+#[derive(PartialEq)]
+struct Picked {
+    /// The rods refitted together, the doubtful one first.
+    rods: Vec<usize>,
+    /// The angle of the rows around them, if any.
+    around: Option<f64>,
+    /// The doubtful rod and the rod turned otherwise over it, or none.
+    pair: Vec<usize>,
 }
 
 /// The settings of [`repair_doubtful`]'s trials.
@@ -91,7 +99,7 @@ struct Doubtful<'a> {
 impl SetTrials for Doubtful<'_> {
     /// A doubtful rod.
     type Item = usize;
-    type Near = (Vec<usize>, Option<f64>, Vec<usize>);
+    type Near = Picked;
     type Kept = Refit;
 
     fn passed_over(&self, &g: &usize, touched: &[bool]) -> bool {
@@ -102,13 +110,7 @@ impl SetTrials for Doubtful<'_> {
     /// like it within a length), the angle of the nearest rod around them turned otherwise
     /// (the rows there), if one lies within 1.5 lengths, and `g` with that rod when it is
     /// untouched and near enough to overlap it (centres within (L + W) / 2).
-    fn near(
-        &self,
-        found: &[Found],
-        touched: &[bool],
-        &g: &usize,
-        cx: &Context,
-    ) -> (Vec<usize>, Option<f64>, Vec<usize>) {
+    fn near(&self, found: &[Found], touched: &[bool], &g: &usize, cx: &Context) -> Picked {
         let old = found[g].pose;
         let rods: Vec<usize> = std::iter::once(g)
             .chain((0..found.len()).filter(|&h| {
@@ -131,11 +133,11 @@ impl SetTrials for Doubtful<'_> {
             Some((d, h)) if d < 0.5 * (cx.length + cx.width) && !touched[h] => vec![g, h],
             _ => Vec::new(),
         };
-        (rods, around, pair)
+        Picked { rods, around, pair }
     }
 
-    fn rods<'n>(&self, near: &'n (Vec<usize>, Option<f64>, Vec<usize>)) -> &'n [usize] {
-        &near.0
+    fn rods<'n>(&self, near: &'n Picked) -> &'n [usize] {
+        &near.rods
     }
 
     /// What a trial about the rods reads, of either level: fits at each rod's centre and at
@@ -144,7 +146,7 @@ impl SetTrials for Doubtful<'_> {
         &self,
         local: &Local,
         found: &[Found],
-        (rods, _, pair): &(Vec<usize>, Option<f64>, Vec<usize>),
+        Picked { rods, pair, .. }: &Picked,
         _: &usize,
         cx: &Context,
     ) -> Window {
@@ -176,7 +178,7 @@ impl SetTrials for Doubtful<'_> {
         &self,
         local: &mut Local,
         found: &[Found],
-        &(ref rods, around, ref pair): &(Vec<usize>, Option<f64>, Vec<usize>),
+        Picked { rods, around, pair }: &Picked,
         _: &usize,
         cx: &Context,
     ) -> Refit {
