@@ -98,6 +98,22 @@ fn assert_both_repaired_alike(
     }
 }
 
+/// The rods a repair made on one thread (`one`, which `on(1)` gave) are as many as `truth`
+/// and every true pose is found among them; two and three threads give the same, to the bit.
+fn assert_all_found_alike(
+    scene: &Scene,
+    truth: &[Pose],
+    one: &Repaired,
+    on: impl Fn(usize) -> Repaired,
+) {
+    let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
+    assert_eq!(rods.len(), truth.len(), "{:?}", one.1);
+    assert_found(&rods, truth);
+    for threads in [2, 3] {
+        assert!(on(threads) == *one, "{threads} threads differ from one");
+    }
+}
+
 /// What a repair makes of `found` on `threads` threads, to the bit.
 fn on_threads(
     threads: usize,
@@ -708,12 +724,7 @@ fn a_rod_fitted_centred_outside_over_a_cut_rod_is_taken_away_and_the_column_put_
     };
     let one = on(1);
     assert_eq!(one.0, 1, "the rod outside repaired");
-    let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
-    assert_eq!(rods.len(), 2, "{:?}", one.1);
-    assert_found(&rods, &truth);
-    for threads in [2, 3] {
-        assert!(on(threads) == one, "{threads} threads differ from one");
-    }
+    assert_all_found_alike(&scene, &truth, &one, on);
 }
 
 /// The rods of [`cut_column`] at their true poses, and a true rod centred outside the
@@ -830,10 +841,5 @@ fn a_rod_turned_across_a_doubtful_one_is_refitted_at_its_angle() {
     };
     let one = on(1);
     assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
-    let rods: Vec<Found> = one.1.iter().map(|&(p, _)| scene.found(p, 0.9)).collect();
-    assert_eq!(rods.len(), 3, "{:?}", one.1);
-    assert_found(&rods, &truth);
-    for threads in [2, 3] {
-        assert!(on(threads) == one, "{threads} threads differ from one");
-    }
+    assert_all_found_alike(&scene, &truth, &one, on);
 }
