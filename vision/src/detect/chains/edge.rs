@@ -67,16 +67,14 @@ struct AlongEdge<'a> {
     reads: f64,
 }
 
-impl AlongEdge<'_> {
-    /// Whether rod pose `p`, centred inside, is turned across its nearest edge and its
-    /// outline reaches over it.
-    fn across_edge(p: Pose, plane: &Plane, cx: &Context) -> bool {
-        let e = nearest_edge(p, plane);
-        e.depth >= 0.0
-            && turn(p.phi, e.phi) > ACROSS_DEG.to_radians()
-            && reach(p, e.phi, cx) > e.depth
-    }
+/// Whether rod pose `p`, centred inside, is turned across its nearest edge and its outline
+/// reaches over it: the rods this repair refits.
+pub fn across_edge(p: Pose, plane: &Plane, cx: &Context) -> bool {
+    let e = nearest_edge(p, plane);
+    e.depth >= 0.0 && turn(p.phi, e.phi) > ACROSS_DEG.to_radians() && reach(p, e.phi, cx) > e.depth
+}
 
+impl AlongEdge<'_> {
     /// A rod the edge cuts, fitted in what is left unexplained about `mid`, between a rod
     /// refitted along the edge (centred `depth` in from it) and the edge: the best of the
     /// fits over every angle and along the edge that passes the acceptance (or, centred
@@ -244,7 +242,7 @@ pub fn repair_along_edge(
     step: f64,
 ) -> usize {
     let across: Vec<usize> = (0..found.len())
-        .filter(|&g| AlongEdge::across_edge(found[g].pose, cx.dark, cx))
+        .filter(|&g| across_edge(found[g].pose, cx.dark, cx))
         .collect();
     if across.is_empty() {
         return 0;
