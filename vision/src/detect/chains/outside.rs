@@ -44,7 +44,7 @@ const ON_AXIS_DEG: f64 = 15.0;
 const LEAST_GAIN: f64 = 0.1;
 
 /// Whether a pose's centre lies in the photograph.
-fn centred_inside(p: Pose, plane: &Plane) -> bool {
+pub(super) fn centred_inside(p: Pose, plane: &Plane) -> bool {
     p.x >= 0.0 && p.y >= 0.0 && p.x < plane.width as f64 && p.y < plane.height as f64
 }
 
