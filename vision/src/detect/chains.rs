@@ -341,6 +341,7 @@ fn offsets(ax: f64, ay: f64, phi: f64, x: f64, y: f64) -> (f64, f64) {
 /// The edge of the photograph nearest a centre: its direction (a rod's angle lying along
 /// it), the unit normal pointing into the photograph, and the centre's distance from it
 /// (negative outside).
+#[derive(Clone, Copy)]
 struct Edge {
     phi: f64,
     inward: (f64, f64),

@@ -820,6 +820,55 @@ fn a_rod_turned_across_the_edge_is_refitted_along_it_with_the_stub_beyond() {
     assert_both_repaired_alike(&scene, &truth, "turned rods", on);
 }
 
+/// A rod lying along the top edge between two rods standing across it that the edge cuts
+/// (0.6 of them seen), fitted turned across the edge, the rod on its left fitted shifted
+/// by 0.3 of a width into its place (lab rod53 at 6 px/mm, seed 3, at (122.3, 118.4) mm):
+/// refitted along the edge with the two beside it, the same on one, two and three threads.
+#[test]
+fn a_rod_turned_across_the_edge_is_refitted_along_it_with_the_cut_rods_beside_it() {
+    let right_angle = std::f64::consts::FRAC_PI_2;
+    let standing = |x| Pose {
+        x,
+        y: 0.6 * LENGTH - 0.5 * LENGTH,
+        phi: right_angle,
+    };
+    let beside = 0.5 * LENGTH + 0.5 * WIDTH + 1.0;
+    let truth = [
+        Pose {
+            x: 100.0,
+            y: 0.5 * WIDTH + 1.0,
+            phi: 0.0,
+        },
+        standing(100.0 - beside),
+        standing(100.0 + beside),
+    ];
+    let scene = Scene::sized(&truth, 200, 180);
+    let cx = scene.cx();
+    let offsets = residual_offsets();
+    let on = |threads: usize| {
+        // Its inner end at the rod's inner face, its outer end out over the edge.
+        let turned = Pose {
+            x: 100.0,
+            y: truth[0].y + 0.5 * WIDTH - 0.5 * LENGTH,
+            phi: right_angle,
+        };
+        let shifted = Pose {
+            x: truth[1].x + 0.3 * WIDTH,
+            ..truth[1]
+        };
+        let found = [turned, shifted, truth[2]]
+            .iter()
+            .map(|&p| scene.found(p, 0.9))
+            .collect();
+        on_threads(threads, &cx, found, |found, maps| {
+            repair_along_edge(found, maps, &cx, &offsets, 4.5)
+        })
+    };
+    let one = on(1);
+    assert_eq!(one.0, 1, "not repaired: {:?}", one.1);
+    assert_all_found_alike(&scene, &truth, &one, on);
+}
+
 /// A rod standing across the bottom edge, cut by it (0.8 of it seen), beside a rod lying
 /// along it: both true, both left as they are.
 #[test]
