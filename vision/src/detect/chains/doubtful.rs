@@ -58,6 +58,7 @@ pub fn repair_doubtful(
 #[derive(Clone)]
 enum Refit {
     Together(Vec<fit::Fitted>),
+    Block(Vec<fit::Fitted>),
     WithTurned(Vec<fit::Fitted>),
     WithRows(Vec<fit::Fitted>),
     Alone(fit::Fitted),
@@ -71,6 +72,7 @@ impl Parts<Picked> for Refit {
         let rods = &near.rods;
         match self {
             Refit::Together(fits) => (rods, fits),
+            Refit::Block(fits) => (&near.block, fits),
             Refit::WithTurned(fits) => (&near.pair, fits),
             Refit::WithRows(fits) => (&near.rows, fits),
             Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
@@ -84,6 +86,9 @@ impl Parts<Picked> for Refit {
 struct Picked {
     /// The rods refitted together, the doubtful one first.
     rods: Vec<usize>,
+    /// Those of them near enough to overlap the doubtful one (centres within (L + W) / 2),
+    /// when that leaves some out.
+    block: Vec<usize>,
     /// The angle of the rows around them, if any.
     around: Option<f64>,
     /// The doubtful rod and the rod turned otherwise over it, or none.
@@ -157,8 +162,23 @@ impl SetTrials for Doubtful<'_> {
         } else {
             Vec::new()
         };
+        let overlap = 0.5 * (cx.length + cx.width);
+        let block: Vec<usize> = rods
+            .iter()
+            .copied()
+            .filter(|&h| {
+                let p = found[h].pose;
+                (p.x - old.x).hypot(p.y - old.y) < overlap
+            })
+            .collect();
+        let block = if block.len() > 1 && block.len() < rods.len() {
+            block
+        } else {
+            Vec::new()
+        };
         Picked {
             rods,
+            block,
             around,
             pair,
             rows,
@@ -211,6 +231,7 @@ impl SetTrials for Doubtful<'_> {
         found: &[Found],
         Picked {
             rods,
+            block,
             around,
             pair,
             rows,
@@ -221,21 +242,20 @@ impl SetTrials for Doubtful<'_> {
         // At the rows' angle and at any: a block of rods face to face fits rods of either
         // angle, and the rows around may tell which. Rods turned like every rod around them
         // are a row, not rods fitted across one: not tried together.
-        if rods.len() > 1 && around.is_some() {
-            let search = (self.offsets, self.step, self.reach);
-            let mut best: Option<(Vec<fit::Fitted>, f64)> = None;
-            for axis in around.map(Some).into_iter().chain([None]) {
-                let Some((fits, gain)) = refit_together(local, found, rods, cx, search, axis, &[])
-                else {
-                    continue;
-                };
-                if best.as_ref().is_none_or(|(_, b)| gain > *b) {
-                    best = Some((fits, gain));
-                }
-            }
-            if let Some((fits, _)) = best {
-                return Refit::Together(fits);
-            }
+        let search = (self.offsets, self.step, self.reach);
+        if rods.len() > 1
+            && let Some(fits) = at_either_angle(local, found, rods, cx, search, *around)
+        {
+            return Refit::Together(fits);
+        }
+        // The rods turned like it may take in a true rod beside the block it lies in (lab
+        // rod3 at 10 px/mm, seed 7: three rods fitted at 57 degrees across three at 147,
+        // and a fourth rightly at 57 a length away, which the rows' angle cannot fit): the
+        // rods overlapping it alone, the same way.
+        if !block.is_empty()
+            && let Some(fits) = at_either_angle(local, found, block, cx, search, *around)
+        {
+            return Refit::Block(fits);
         }
         // The rod turned otherwise may be the wrong one, fitted across the doubtful rod and
         // its row (lab rod53 at 10 px/mm, seed 4: a rod turned by 74 degrees, agreeing at
@@ -243,7 +263,6 @@ impl SetTrials for Doubtful<'_> {
         // the doubtful rod's angle, kept when it gains and leaves no rod doubtful (without
         // that, at the frame's edge, seed 3 at 6 px/mm: a false rod agreeing at 0.51).
         if !pair.is_empty() {
-            let search = (self.offsets, self.step, self.reach);
             let axis = Some(found[pair[0]].pose.phi);
             if let Some((fits, gain)) = refit_together(local, found, pair, cx, search, axis, &[])
                 && gain > PAIR_GAIN * cx.length * cx.width
@@ -261,19 +280,17 @@ impl SetTrials for Doubtful<'_> {
         // together at the rows' angle, kept as the pair is, and when each rod of the rows
         // is refitted in its row (seed 3 at 6 px/mm: a rod refitted into the row below,
         // leaving its place unexplained).
-        if rows.len() > 1 {
-            let search = (self.offsets, self.step, self.reach);
-            if let Some((fits, gain)) = refit_together(local, found, rows, cx, search, *around, &[])
-                && gain > PAIR_GAIN * cx.length * cx.width
-                && fits
-                    .iter()
-                    .all(|f| f64::from(f.score.agreement) >= DOUBTFUL)
-                && rows[1..]
-                    .iter()
-                    .all(|&h| fits.iter().any(|f| in_its_row(found[h].pose, f.pose, cx)))
-            {
-                return Refit::WithRows(fits);
-            }
+        if rows.len() > 1
+            && let Some((fits, gain)) = refit_together(local, found, rows, cx, search, *around, &[])
+            && gain > PAIR_GAIN * cx.length * cx.width
+            && fits
+                .iter()
+                .all(|f| f64::from(f.score.agreement) >= DOUBTFUL)
+            && rows[1..]
+                .iter()
+                .all(|&h| fits.iter().any(|f| in_its_row(found[h].pose, f.pose, cx)))
+        {
+            return Refit::WithRows(fits);
         }
         let g = rods[0];
         let old = found[g].pose;
@@ -292,6 +309,29 @@ impl SetTrials for Doubtful<'_> {
         local.restore(window, &saved);
         if kept { Refit::Alone(ft) } else { Refit::None }
     }
+}
+
+/// The rods `rods` refitted together ([`refit_together`]) once at the rows' angle `around`
+/// and once at any, the trial that gains more kept; nothing without rows around.
+fn at_either_angle(
+    local: &mut Local,
+    found: &[Found],
+    rods: &[usize],
+    cx: &Context,
+    search: (&[(f64, f64)], f64, f64),
+    around: Option<f64>,
+) -> Option<Vec<fit::Fitted>> {
+    around?;
+    let mut best: Option<(Vec<fit::Fitted>, f64)> = None;
+    for axis in around.map(Some).into_iter().chain([None]) {
+        let Some((fits, gain)) = refit_together(local, found, rods, cx, search, axis, &[]) else {
+            continue;
+        };
+        if best.as_ref().is_none_or(|(_, b)| gain > *b) {
+            best = Some((fits, gain));
+        }
+    }
+    best.map(|(fits, _)| fits)
 }
 
 /// Rods turned by less than this (degrees) from a doubtful rod, and within a length of it,
