@@ -114,6 +114,25 @@ fn assert_all_found_alike(
     }
 }
 
+/// The doubtful-rod repair (with `offsets`) mends the rods `found` makes into `truth`:
+/// something repaired, every true pose found, the same on one, two and three threads.
+fn assert_doubtful_repaired(
+    scene: &Scene,
+    truth: &[Pose],
+    offsets: &[(f64, f64)],
+    found: impl Fn() -> Vec<Found>,
+) {
+    let cx = scene.cx();
+    let on = |threads: usize| {
+        on_threads(threads, &cx, found(), |found, maps| {
+            repair_doubtful(found, maps, &cx, offsets, 4.5)
+        })
+    };
+    let one = on(1);
+    assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
+    assert_all_found_alike(scene, truth, &one, on);
+}
+
 /// What a repair makes of `found` on `threads` threads, to the bit.
 fn on_threads(
     threads: usize,
@@ -905,25 +924,17 @@ fn a_rod_turned_across_a_doubtful_one_is_refitted_at_its_angle() {
     let truth =
         [(100.0, 60.0), (100.0, 90.0), (100.0, 120.0)].map(|(x, y)| Pose { x, y, phi: 0.0 });
     let scene = Scene::of(&truth);
-    let cx = scene.cx();
-    let offsets = residual_offsets();
-    let on = |threads: usize| {
-        let turned = Pose {
-            phi: 74f64.to_radians(),
-            ..truth[1]
-        };
-        let found = vec![
+    let turned = Pose {
+        phi: 74f64.to_radians(),
+        ..truth[1]
+    };
+    assert_doubtful_repaired(&scene, &truth, &residual_offsets(), || {
+        vec![
             scene.found(truth[0], 0.55),
             scene.found(turned, 0.95),
             scene.found(truth[2], 0.55),
-        ];
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_doubtful(found, maps, &cx, &offsets, 4.5)
-        })
-    };
-    let one = on(1);
-    assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
-    assert_all_found_alike(&scene, &truth, &one, on);
+        ]
+    });
 }
 
 /// Three rows of two rods lying flat, end to end; in the middle row the first rod is
@@ -938,10 +949,8 @@ fn a_doubtful_rod_with_a_neighbour_shifted_into_its_place_is_refitted_with_the_r
         .flat_map(|y| [70.0, 70.0 + LENGTH + 1.0].map(|x| Pose { x, y, phi: 0.0 }))
         .collect::<Vec<_>>();
     let scene = Scene::of(&truth);
-    let cx = scene.cx();
-    let offsets = residual_offsets();
-    let on = |threads: usize| {
-        let found = truth
+    assert_doubtful_repaired(&scene, &truth, &residual_offsets(), || {
+        truth
             .iter()
             .enumerate()
             .map(|(k, &p)| match k {
@@ -961,14 +970,8 @@ fn a_doubtful_rod_with_a_neighbour_shifted_into_its_place_is_refitted_with_the_r
                 ),
                 _ => scene.found(p, 0.9),
             })
-            .collect();
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_doubtful(found, maps, &cx, &offsets, 4.5)
-        })
-    };
-    let one = on(1);
-    assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
-    assert_all_found_alike(&scene, &truth, &one, on);
+            .collect()
+    });
 }
 
 /// The rods of [`two_rods_turned_across_three_are_refitted_as_the_three`], with a fifth rod
@@ -988,10 +991,8 @@ fn rods_turned_across_a_block_are_refitted_and_a_true_rod_turned_alike_kept() {
         phi,
     });
     let scene = Scene::of(&truth);
-    let cx = scene.cx();
-    let offsets = along_axis();
-    let on = |threads: usize| {
-        let (s, c) = phi.sin_cos();
+    let (s, c) = phi.sin_cos();
+    assert_doubtful_repaired(&scene, &truth, &along_axis(), || {
         let mut found: Vec<Found> = [(-0.5, 0.6), (0.5, 0.94)]
             .into_iter()
             .map(|(k, confidence)| {
@@ -1001,11 +1002,6 @@ fn rods_turned_across_a_block_are_refitted_and_a_true_rod_turned_alike_kept() {
             .collect();
         found.push(scene.found(truth[3], 0.9));
         found.push(scene.found(truth[4], 0.9));
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_doubtful(found, maps, &cx, &offsets, 4.5)
-        })
-    };
-    let one = on(1);
-    assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
-    assert_all_found_alike(&scene, &truth, &one, on);
+        found
+    });
 }
