@@ -363,6 +363,11 @@ fn nearest_edge(p: Pose, plane: &Plane) -> Edge {
     .expect("four edges")
 }
 
+/// Whether a pose's centre lies in the photograph.
+fn centred_inside(p: Pose, plane: &Plane) -> bool {
+    p.x >= 0.0 && p.y >= 0.0 && p.x < plane.width as f64 && p.y < plane.height as f64
+}
+
 /// Angle between two axes, modulo half a turn.
 fn turn(a: f64, b: f64) -> f64 {
     let d = (a - b).rem_euclid(std::f64::consts::PI);
@@ -1047,8 +1052,20 @@ fn nearest(
     within: f64,
     most: usize,
 ) -> Vec<usize> {
+    nearest_where(found, touched, at, within, most, |_| true)
+}
+
+/// [`nearest`], of the rods that `keep` keeps.
+fn nearest_where(
+    found: &[Found],
+    touched: &[bool],
+    at: (f64, f64),
+    within: f64,
+    most: usize,
+    keep: impl Fn(usize) -> bool,
+) -> Vec<usize> {
     let mut near: Vec<(f64, usize)> = (0..found.len())
-        .filter(|&k| !touched[k])
+        .filter(|&k| !touched[k] && keep(k))
         .map(|k| {
             let p = found[k].pose;
             ((p.x - at.0).hypot(p.y - at.1), k)
@@ -1057,6 +1074,23 @@ fn nearest(
         .collect();
     near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     near.into_iter().take(most).map(|(_, k)| k).collect()
+}
+
+/// Rod `g`, then the `most` other rods not yet touched nearest to it within `within` that
+/// `keep` keeps: the rods a set trial about `g` takes off.
+fn with_nearest(
+    found: &[Found],
+    touched: &[bool],
+    g: usize,
+    within: f64,
+    most: usize,
+    keep: impl Fn(usize) -> bool,
+) -> Vec<usize> {
+    let p = found[g].pose;
+    let near = nearest_where(found, touched, (p.x, p.y), within, most, |k| {
+        k != g && keep(k)
+    });
+    std::iter::once(g).chain(near).collect()
 }
 
 /// Least agreement of a rod that [`repair_crowded`] adds.

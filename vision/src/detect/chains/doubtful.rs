@@ -1,10 +1,9 @@
 //! Rods accepted with a low agreement: fitted afresh, alone, with the rods turned like them,
 //! or with a rod turned across them.
 
-use super::outside::centred_inside;
 use super::{
-    Context, Found, Local, Maps, Parts, SetTrials, Window, fit, fit_reads, in_order,
-    refit_together, turn,
+    Context, Found, Local, Maps, Parts, SetTrials, Window, centred_inside, fit, fit_reads,
+    in_order, refit_together, turn, with_nearest,
 };
 use crate::detect::model::Pose;
 
@@ -148,17 +147,9 @@ impl SetTrials for Doubtful<'_> {
         // A rod centred outside is too little seen to move the rods inside for it.
         let inside = centred_inside(old, cx.dark);
         let rows = if let (1, Some(rows_phi), true) = (rods.len(), around, inside) {
-            let mut beside: Vec<(f64, usize)> = (0..found.len())
-                .filter(|&h| h != g && !touched[h])
-                .map(|h| (found[h].pose, h))
-                .filter(|(p, _)| turn(p.phi, rows_phi) < PARALLEL_DEG.to_radians())
-                .map(|(p, h)| ((p.x - old.x).hypot(p.y - old.y), h))
-                .filter(|&(d, _)| d < cx.length)
-                .collect();
-            beside.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-            std::iter::once(g)
-                .chain(beside.into_iter().take(MOST_ROWS).map(|(_, h)| h))
-                .collect()
+            with_nearest(found, touched, g, cx.length, MOST_ROWS, |h| {
+                turn(found[h].pose.phi, rows_phi) < PARALLEL_DEG.to_radians()
+            })
         } else {
             Vec::new()
         };

@@ -12,7 +12,7 @@
 
 use super::{
     Context, Edge, Found, Local, SetTrials, Window, fit, fit_reads, in_order, nearest_edge, turn,
-    unexplained_near,
+    unexplained_near, with_nearest,
 };
 use crate::detect::model::Pose;
 use crate::detect::plane::Plane;
@@ -146,22 +146,12 @@ impl SetTrials for AlongEdge<'_> {
     /// Rod `g`, then the untouched rods the same edge cuts centred within a length of it,
     /// nearest first.
     fn near(&self, found: &[Found], touched: &[bool], &g: &usize, cx: &Context) -> Vec<usize> {
-        let p = found[g].pose;
-        let e = nearest_edge(p, cx.dark);
-        let mut beside: Vec<(f64, usize)> = (0..found.len())
-            .filter(|&h| h != g && !touched[h])
-            .filter_map(|h| {
-                let q = found[h].pose;
-                let d = (q.x - p.x).hypot(q.y - p.y);
-                let f = nearest_edge(q, cx.dark);
-                (d < cx.length && f.inward == e.inward && reach(q, f.phi, cx) > f.depth)
-                    .then_some((d, h))
-            })
-            .collect();
-        beside.sort_by(|a, b| a.0.total_cmp(&b.0));
-        std::iter::once(g)
-            .chain(beside.into_iter().take(MOST_BESIDE).map(|(_, h)| h))
-            .collect()
+        let e = nearest_edge(found[g].pose, cx.dark);
+        with_nearest(found, touched, g, cx.length, MOST_BESIDE, |h| {
+            let q = found[h].pose;
+            let f = nearest_edge(q, cx.dark);
+            f.inward == e.inward && reach(q, f.phi, cx) > f.depth
+        })
     }
 
     fn rods<'n>(&self, near: &'n Vec<usize>) -> &'n [usize] {

@@ -8,11 +8,10 @@
 //! afresh, innermost first, the rod outside last in what they leave.
 
 use super::{
-    Context, Found, Local, Maps, SetTrials, Window, fit, fit_reads, in_order, nearest_edge, turn,
-    unexplained_near,
+    Context, Found, Local, Maps, SetTrials, Window, centred_inside, fit, fit_reads, in_order,
+    nearest_edge, turn, unexplained_near, with_nearest,
 };
 use crate::detect::model::Pose;
-use crate::detect::plane::Plane;
 
 /// The pose of a rod a kept trial took away: it paints nothing and lies near no rod, and
 /// [`repair_outside`] drops it from the rods found at its end.
@@ -42,11 +41,6 @@ const ON_AXIS_DEG: f64 = 15.0;
 /// of them turned a rod later (lab rod53 at 6 px/mm, seed 3: 2.96 -> 3.20 degrees); the
 /// trials kept on lab seeds 1 and 2 gained 0.10-0.99.
 const LEAST_GAIN: f64 = 0.1;
-
-/// Whether a pose's centre lies in the photograph.
-pub(super) fn centred_inside(p: Pose, plane: &Plane) -> bool {
-    p.x >= 0.0 && p.y >= 0.0 && p.x < plane.width as f64 && p.y < plane.height as f64
-}
 
 /// The settings of [`repair_outside`]'s trials.
 struct Outside<'a> {
@@ -159,20 +153,10 @@ impl SetTrials for Outside<'_> {
     /// The rod `g`, and the [`NEAR_MOST`] untouched rods centred inside nearest to it within
     /// [`NEAR_OUTSIDE`] lengths.
     fn near(&self, found: &[Found], touched: &[bool], &g: &usize, cx: &Context) -> Vec<usize> {
-        let p = found[g].pose;
-        let plane = cx.dark;
-        let mut near: Vec<(f64, usize)> = (0..found.len())
-            .filter(|&k| k != g && !touched[k] && centred_inside(found[k].pose, plane))
-            .map(|k| {
-                let q = found[k].pose;
-                ((q.x - p.x).hypot(q.y - p.y), k)
-            })
-            .filter(|&(d, _)| d < NEAR_OUTSIDE * cx.length)
-            .collect();
-        near.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        std::iter::once(g)
-            .chain(near.into_iter().take(NEAR_MOST).map(|(_, k)| k))
-            .collect()
+        let within = NEAR_OUTSIDE * cx.length;
+        with_nearest(found, touched, g, within, NEAR_MOST, |k| {
+            centred_inside(found[k].pose, cx.dark)
+        })
     }
 
     fn rods<'n>(&self, near: &'n Vec<usize>) -> &'n [usize] {
