@@ -4,6 +4,7 @@ use super::doubtful::DOUBTFUL;
 use super::*;
 use crate::GrainShape;
 use crate::detect::ridges::AxisSeed;
+use std::ops::RangeBounds;
 
 /// A photograph's darkness made of the coverage of rods (rod53 at 10 px/mm), with what a
 /// repair needs to read it.
@@ -114,22 +115,29 @@ fn assert_all_found_alike(
     }
 }
 
-/// The doubtful-rod repair (with `offsets`) mends the rods `found` makes into `truth`:
-/// something repaired, every true pose found, the same on one, two and three threads.
-fn assert_doubtful_repaired(
+/// `repair` mends the rods `found` makes into `truth`: on one thread it keeps a number of
+/// trials within `kept` and every true pose is found among as many rods; two and three
+/// threads give the same, to the bit.
+fn assert_repaired_alike(
     scene: &Scene,
     truth: &[Pose],
-    offsets: &[(f64, f64)],
+    kept: impl RangeBounds<usize> + std::fmt::Debug,
     found: impl Fn() -> Vec<Found>,
+    repair: impl Fn(&mut Vec<Found>, &mut Maps, &Context) -> usize + Sync,
 ) {
     let cx = scene.cx();
     let on = |threads: usize| {
         on_threads(threads, &cx, found(), |found, maps| {
-            repair_doubtful(found, maps, &cx, offsets, 4.5)
+            repair(found, maps, &cx)
         })
     };
     let one = on(1);
-    assert!(one.0 >= 1, "nothing repaired: {:?}", one.1);
+    assert!(
+        kept.contains(&one.0),
+        "{} trials kept, not {kept:?}: {:?}",
+        one.0,
+        one.1
+    );
     assert_all_found_alike(scene, truth, &one, on);
 }
 
@@ -294,28 +302,27 @@ fn a_rod_across_one_and_the_ends_of_two_is_refitted_as_the_one() {
     let truth =
         [(100.0, 60.0), (100.0, 90.0), (100.0, 120.0)].map(|(x, y)| Pose { x, y, phi: 0.0 });
     let scene = Scene::of(&truth);
-    let cx = scene.cx();
     let offsets = along_axis();
-    let on = |threads: usize| {
-        // Its axis (L - W) / 2 off the middle rod's centre: the block centred on it holds
-        // less than a third of a rod of what it leaves, the block moved across it more.
-        let turned = Pose {
-            x: 100.0 - 0.5 * (LENGTH - WIDTH),
-            y: 90.0,
-            phi: std::f64::consts::FRAC_PI_2,
-        };
-        let found = vec![
-            scene.found(truth[0], 0.9),
-            scene.found(turned, 0.9),
-            scene.found(truth[2], 0.9),
-        ];
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_turned(found, maps, &cx, &offsets, 4.5)
-        })
+    // Its axis (L - W) / 2 off the middle rod's centre: the block centred on it holds less
+    // than a third of a rod of what it leaves, the block moved across it more.
+    let turned = Pose {
+        x: 100.0 - 0.5 * (LENGTH - WIDTH),
+        y: 90.0,
+        phi: std::f64::consts::FRAC_PI_2,
     };
-    let one = on(1);
-    assert_eq!(one.0, 1, "not repaired: {:?}", one.1);
-    assert_all_found_alike(&scene, &truth, &one, on);
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..=1,
+        || {
+            vec![
+                scene.found(truth[0], 0.9),
+                scene.found(turned, 0.9),
+                scene.found(truth[2], 0.9),
+            ]
+        },
+        |found, maps, cx| repair_turned(found, maps, cx, &offsets, 4.5),
+    );
 }
 
 /// A rod fitted turned by 20 degrees, with the low agreement such a fit has, is fitted
@@ -766,17 +773,14 @@ fn cut_column() -> ([Pose; 2], [Pose; 2]) {
 fn a_rod_fitted_centred_outside_over_a_cut_rod_is_taken_away_and_the_column_put_back() {
     let (truth, wrong) = cut_column();
     let scene = Scene::sized(&truth, 200, 180);
-    let cx = scene.cx();
     let offsets = residual_offsets();
-    let on = |threads: usize| {
-        let found = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_outside(found, maps, &cx, &offsets, 4.5)
-        })
-    };
-    let one = on(1);
-    assert_eq!(one.0, 1, "the rod outside repaired");
-    assert_all_found_alike(&scene, &truth, &one, on);
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..=1,
+        || wrong.iter().map(|&p| scene.found(p, 0.9)).collect(),
+        |found, maps, cx| repair_outside(found, maps, cx, &offsets, 4.5),
+    );
 }
 
 /// The rods of [`cut_column`] at their true poses, and a true rod centred outside the
@@ -862,30 +866,29 @@ fn a_rod_turned_across_the_edge_is_refitted_along_it_with_the_cut_rods_beside_it
         standing(100.0 + beside),
     ];
     let scene = Scene::sized(&truth, 200, 180);
-    let cx = scene.cx();
     let offsets = residual_offsets();
-    let on = |threads: usize| {
-        // Its inner end at the rod's inner face, its outer end out over the edge.
-        let turned = Pose {
-            x: 100.0,
-            y: truth[0].y + 0.5 * WIDTH - 0.5 * LENGTH,
-            phi: right_angle,
-        };
-        let shifted = Pose {
-            x: truth[1].x + 0.3 * WIDTH,
-            ..truth[1]
-        };
-        let found = [turned, shifted, truth[2]]
-            .iter()
-            .map(|&p| scene.found(p, 0.9))
-            .collect();
-        on_threads(threads, &cx, found, |found, maps| {
-            repair_along_edge(found, maps, &cx, &offsets, 4.5)
-        })
+    // Its inner end at the rod's inner face, its outer end out over the edge.
+    let turned = Pose {
+        x: 100.0,
+        y: truth[0].y + 0.5 * WIDTH - 0.5 * LENGTH,
+        phi: right_angle,
     };
-    let one = on(1);
-    assert_eq!(one.0, 1, "not repaired: {:?}", one.1);
-    assert_all_found_alike(&scene, &truth, &one, on);
+    let shifted = Pose {
+        x: truth[1].x + 0.3 * WIDTH,
+        ..truth[1]
+    };
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..=1,
+        || {
+            [turned, shifted, truth[2]]
+                .iter()
+                .map(|&p| scene.found(p, 0.9))
+                .collect()
+        },
+        |found, maps, cx| repair_along_edge(found, maps, cx, &offsets, 4.5),
+    );
 }
 
 /// A rod standing across the bottom edge, cut by it (0.8 of it seen), beside a rod lying
@@ -928,13 +931,20 @@ fn a_rod_turned_across_a_doubtful_one_is_refitted_at_its_angle() {
         phi: 74f64.to_radians(),
         ..truth[1]
     };
-    assert_doubtful_repaired(&scene, &truth, &residual_offsets(), || {
-        vec![
-            scene.found(truth[0], 0.55),
-            scene.found(turned, 0.95),
-            scene.found(truth[2], 0.55),
-        ]
-    });
+    let offsets = residual_offsets();
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..,
+        || {
+            vec![
+                scene.found(truth[0], 0.55),
+                scene.found(turned, 0.95),
+                scene.found(truth[2], 0.55),
+            ]
+        },
+        |found, maps, cx| repair_doubtful(found, maps, cx, &offsets, 4.5),
+    );
 }
 
 /// Three rows of two rods lying flat, end to end; in the middle row the first rod is
@@ -949,29 +959,36 @@ fn a_doubtful_rod_with_a_neighbour_shifted_into_its_place_is_refitted_with_the_r
         .flat_map(|y| [70.0, 70.0 + LENGTH + 1.0].map(|x| Pose { x, y, phi: 0.0 }))
         .collect::<Vec<_>>();
     let scene = Scene::of(&truth);
-    assert_doubtful_repaired(&scene, &truth, &residual_offsets(), || {
-        truth
-            .iter()
-            .enumerate()
-            .map(|(k, &p)| match k {
-                2 => scene.found(
-                    Pose {
-                        phi: 45f64.to_radians(),
-                        ..p
-                    },
-                    0.55,
-                ),
-                3 => scene.found(
-                    Pose {
-                        x: p.x - 0.25 * LENGTH,
-                        ..p
-                    },
-                    0.9,
-                ),
-                _ => scene.found(p, 0.9),
-            })
-            .collect()
-    });
+    let offsets = residual_offsets();
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..,
+        || {
+            truth
+                .iter()
+                .enumerate()
+                .map(|(k, &p)| match k {
+                    2 => scene.found(
+                        Pose {
+                            phi: 45f64.to_radians(),
+                            ..p
+                        },
+                        0.55,
+                    ),
+                    3 => scene.found(
+                        Pose {
+                            x: p.x - 0.25 * LENGTH,
+                            ..p
+                        },
+                        0.9,
+                    ),
+                    _ => scene.found(p, 0.9),
+                })
+                .collect()
+        },
+        |found, maps, cx| repair_doubtful(found, maps, cx, &offsets, 4.5),
+    );
 }
 
 /// The rods of [`two_rods_turned_across_three_are_refitted_as_the_three`], with a fifth rod
@@ -992,16 +1009,23 @@ fn rods_turned_across_a_block_are_refitted_and_a_true_rod_turned_alike_kept() {
     });
     let scene = Scene::of(&truth);
     let (s, c) = phi.sin_cos();
-    assert_doubtful_repaired(&scene, &truth, &along_axis(), || {
-        let mut found: Vec<Found> = [(-0.5, 0.6), (0.5, 0.94)]
-            .into_iter()
-            .map(|(k, confidence)| {
-                let (x, y) = (100.0 + k * WIDTH * s, 90.0 + k * WIDTH * c);
-                scene.found(Pose { x, y, phi }, confidence)
-            })
-            .collect();
-        found.push(scene.found(truth[3], 0.9));
-        found.push(scene.found(truth[4], 0.9));
-        found
-    });
+    let offsets = along_axis();
+    assert_repaired_alike(
+        &scene,
+        &truth,
+        1..,
+        || {
+            let mut found: Vec<Found> = [(-0.5, 0.6), (0.5, 0.94)]
+                .into_iter()
+                .map(|(k, confidence)| {
+                    let (x, y) = (100.0 + k * WIDTH * s, 90.0 + k * WIDTH * c);
+                    scene.found(Pose { x, y, phi }, confidence)
+                })
+                .collect();
+            found.push(scene.found(truth[3], 0.9));
+            found.push(scene.found(truth[4], 0.9));
+            found
+        },
+        |found, maps, cx| repair_doubtful(found, maps, cx, &offsets, 4.5),
+    );
 }
