@@ -58,11 +58,12 @@ pub fn repair_turned(
     let guesses = speculate(&rods, &local, |local, &g| {
         let found = before;
         let pose = found[g].pose;
-        (trial.block(local, pose) != Block::Explained).then(|| Guess {
+        let block = trial.block(local, pose);
+        (block != Block::Explained).then(|| Guess {
             rod: g,
             pose,
             reads: trial.reads(local, pose),
-            kept: trial.run(local, found, g, cx, true),
+            kept: trial.run(local, found, g, block, cx, true),
         })
     });
     let mut changed: Vec<Window> = Vec::new();
@@ -73,7 +74,8 @@ pub fn repair_turned(
             continue;
         }
         let p = found[g].pose;
-        if trial.block(&local, p) == Block::Explained {
+        let block = trial.block(&local, p);
+        if block == Block::Explained {
             continue;
         }
         let guess = guesses
@@ -84,9 +86,11 @@ pub fn repair_turned(
             Some(guess) => guess.kept.clone().inspect(|fits| {
                 changed.push(replay(&mut local, found, &[g], fits, cx));
             }),
-            None => trial.run(&mut local, found, g, cx, false).inspect(|fits| {
-                changed.push(changed_by(&local, p, fits, cx));
-            }),
+            None => trial
+                .run(&mut local, found, g, block, cx, false)
+                .inspect(|fits| {
+                    changed.push(changed_by(&local, p, fits, cx));
+                }),
         };
         let Some(fitted) = fitted else {
             continue;
@@ -181,18 +185,18 @@ impl Turned<'_> {
         Window::around(p.x, p.y, self.reads, self.reads, &local.maps.free)
     }
 
-    /// The trial at rod `g`: the n fits when kept (the maps then changed, unless `undo`),
-    /// otherwise nothing (the maps as they were).
+    /// The trial at rod `g`, whose block is `block` ([`Turned::block`]): the fits when kept
+    /// (the maps then changed, unless `undo`), otherwise nothing (the maps as they were).
     fn run(
         &self,
         local: &mut Local,
         found: &[Found],
         g: usize,
+        block: Block,
         cx: &Context,
         undo: bool,
     ) -> Option<Vec<fit::Fitted>> {
         let p = found[g].pose;
-        let block = self.block(local, p);
         let (s, c) = p.phi.sin_cos();
         let window = Window::around(p.x, p.y, self.reach, self.reach, &local.maps.free);
         let saved = local.save(window);
