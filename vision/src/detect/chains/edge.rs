@@ -259,8 +259,7 @@ impl AlongEdge<'_> {
         let afresh = fit::fit(&local.levels(cx), (p.x, p.y), self.offsets, self.step, None);
         let b = local.box_of(afresh.pose, cx.model);
         let afresh_total = if cx.passes(&afresh, b, window) {
-            local.restore(window, &saved);
-            local.take_off_set(found, set, cx);
+            local.restore(window, &off);
             self.fit_around(local, found, set, afresh, (e, false), (window, &off), cx)
                 .map(|(_, total)| total)
         } else {
