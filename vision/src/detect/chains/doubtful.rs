@@ -23,10 +23,13 @@ pub(super) const DOUBTFUL: f64 = 0.75;
 /// rods really there (lab, rod3 at 10 px/mm: two rods at 62 degrees, agreements 0.70 and
 /// 0.94, over three lying face to face), the other holding it in place. They are first taken
 /// off together and fitted afresh ([`refit_together`]), once at the rows' angle and once at
-/// any, and the trial that scores more is kept. The rod turned otherwise may instead be the
-/// wrong one, fitted across the doubtful rod and its row: when it overlaps the doubtful rod,
-/// the two are next refitted together at the doubtful rod's angle. Only when none of these
-/// is kept is the doubtful rod refitted alone.
+/// any, and the trial that scores more is kept; failing that, the same with only those of
+/// them that can overlap it. The rod turned otherwise may instead be the wrong one, fitted
+/// across the doubtful rod and its row: when it overlaps the doubtful rod, the two are next
+/// refitted together at the doubtful rod's angle. With no rod turned like it, its
+/// neighbours in the rows may have been fitted shifted into its place: it is refitted with
+/// them at the rows' angle. Only when none of these is kept is the doubtful rod refitted
+/// alone.
 ///
 /// The trials are worked out ahead in parallel on copies of the maps (they took a seventh of
 /// a rod photograph's time one after another: each fits three to six rods over every angle);
@@ -57,7 +60,7 @@ pub fn repair_doubtful(
 #[derive(Clone)]
 enum Refit {
     Together(Vec<fit::Fitted>),
-    Block(Vec<fit::Fitted>),
+    Overlapping(Vec<fit::Fitted>),
     WithTurned(Vec<fit::Fitted>),
     WithRows(Vec<fit::Fitted>),
     Alone(fit::Fitted),
@@ -71,7 +74,7 @@ impl Parts<Picked> for Refit {
         let rods = &near.rods;
         match self {
             Refit::Together(fits) => (rods, fits),
-            Refit::Block(fits) => (&near.block, fits),
+            Refit::Overlapping(fits) => (&near.overlapping, fits),
             Refit::WithTurned(fits) => (&near.pair, fits),
             Refit::WithRows(fits) => (&near.rows, fits),
             Refit::Alone(ft) => (&rods[..1], std::slice::from_ref(ft)),
@@ -87,7 +90,7 @@ struct Picked {
     rods: Vec<usize>,
     /// Those of them near enough to overlap the doubtful one (centres within (L + W) / 2),
     /// when that leaves some out.
-    block: Vec<usize>,
+    overlapping: Vec<usize>,
     /// The angle of the rows around them, if any.
     around: Option<f64>,
     /// The doubtful rod and the rod turned otherwise over it, or none.
@@ -154,7 +157,7 @@ impl SetTrials for Doubtful<'_> {
             Vec::new()
         };
         let overlap = 0.5 * (cx.length + cx.width);
-        let block: Vec<usize> = rods
+        let overlapping: Vec<usize> = rods
             .iter()
             .copied()
             .filter(|&h| {
@@ -162,14 +165,14 @@ impl SetTrials for Doubtful<'_> {
                 (p.x - old.x).hypot(p.y - old.y) < overlap
             })
             .collect();
-        let block = if block.len() > 1 && block.len() < rods.len() {
-            block
+        let overlapping = if overlapping.len() > 1 && overlapping.len() < rods.len() {
+            overlapping
         } else {
             Vec::new()
         };
         Picked {
             rods,
-            block,
+            overlapping,
             around,
             pair,
             rows,
@@ -210,19 +213,20 @@ impl SetTrials for Doubtful<'_> {
     }
 
     /// The trial: the rods taken off together and fitted afresh, once at the rows' angle and
-    /// once at any, the trial that scores more kept ([`refit_together`]); when neither is
-    /// (or the rod has no parallel neighbour, or no rows around), the doubtful rod and the
-    /// rod turned otherwise overlapping it refitted together at the doubtful rod's angle;
-    /// failing that, the doubtful rod alone fitted afresh at its centre over every angle,
-    /// kept when it passes the acceptance and scores more than its old pose on the same
-    /// maps. The maps are left as they were.
+    /// once at any, the trial that scores more kept ([`at_either_angle`]), then the same
+    /// with the overlapping ones alone; when none is (or the rod has no parallel neighbour,
+    /// or no rows around), the doubtful rod and the rod turned otherwise overlapping it
+    /// refitted together at the doubtful rod's angle; then the doubtful rod with the rows'
+    /// rods around it at the rows' angle; failing all, the doubtful rod alone fitted afresh
+    /// at its centre over every angle, kept when it passes the acceptance and scores more
+    /// than its old pose on the same maps. The maps are left as they were.
     fn run(
         &self,
         local: &mut Local,
         found: &[Found],
         Picked {
             rods,
-            block,
+            overlapping,
             around,
             pair,
             rows,
@@ -243,10 +247,10 @@ impl SetTrials for Doubtful<'_> {
         // rod3 at 10 px/mm, seed 7: three rods fitted at 57 degrees across three at 147,
         // and a fourth rightly at 57 a length away, which the rows' angle cannot fit): the
         // rods overlapping it alone, the same way.
-        if !block.is_empty()
-            && let Some(fits) = at_either_angle(local, found, block, cx, search, *around)
+        if !overlapping.is_empty()
+            && let Some(fits) = at_either_angle(local, found, overlapping, cx, search, *around)
         {
-            return Refit::Block(fits);
+            return Refit::Overlapping(fits);
         }
         // The rod turned otherwise may be the wrong one, fitted across the doubtful rod and
         // its row (lab rod53 at 10 px/mm, seed 4: a rod turned by 74 degrees, agreeing at
