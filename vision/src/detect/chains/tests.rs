@@ -239,6 +239,26 @@ fn a_row_shifted_out_of_the_edge_is_put_back_without_a_rod_outside() {
     assert_row_found(&found, &truth);
 }
 
+/// A row of four rods end to end whose second was fitted standing across the row against
+/// the first, the third shifted into the rest of its place: the row is shifted back onto
+/// the stub the third leaves, and the standing rod refitted along the row in the room.
+#[test]
+fn a_rod_standing_across_a_row_shifted_onto_it_is_refitted_along_the_row() {
+    let at = |x: f64, phi: f64| Pose { x, y: 90.0, phi };
+    let truth: Vec<Pose> = (0..4).map(|k| at(30.0 + LENGTH * k as f64, 0.0)).collect();
+    let scene = Scene::sized(&truth, 230, 180);
+    let cx = scene.cx();
+    let standing = at(30.0 + 0.5 * (LENGTH + WIDTH), std::f64::consts::FRAC_PI_2);
+    let shifted = at(truth[2].x - (LENGTH - WIDTH), 0.0);
+    let wrong = [truth[0], standing, shifted, truth[3]];
+    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair(&mut found, &mut maps, &cx, 0..wrong.len());
+    assert_eq!(repaired, 1);
+    assert_eq!(found.len(), 4);
+    assert_row_found(&found, &truth);
+}
+
 /// A row runs on through a rod turned 7 degrees from it (as the edge's cut rods are
 /// fitted) and stops at one turned 10, or one off its axis by half a width.
 #[test]
