@@ -911,6 +911,40 @@ fn a_rod_turned_across_the_edge_is_refitted_along_it_with_the_cut_rods_beside_it
     );
 }
 
+/// A rod lying along the top edge with a rod beyond it face to face, centred outside and a
+/// fifth of it seen (lab rod53 at 10 px/mm, seed 9, at (51.3, 117.8) mm), fitted as one rod
+/// standing across the edge: refitted along the edge. The rod fitted afresh in the standing
+/// rod's place over every angle lands on the rod along the edge; it is that rod, not a trial
+/// for the refit to beat.
+#[test]
+fn a_rod_turned_across_the_edge_is_refitted_along_it_when_a_fit_afresh_agrees() {
+    let truth = [
+        Pose {
+            x: 100.0,
+            y: 0.5 * WIDTH + 6.0,
+            phi: 0.0,
+        },
+        Pose {
+            x: 100.0,
+            y: 6.0 - 0.5 * WIDTH,
+            phi: 0.0,
+        },
+    ];
+    let scene = Scene::sized(&truth, 200, 180);
+    let offsets = residual_offsets();
+    let turned = Pose {
+        x: 92.0,
+        y: WIDTH + 6.0 - 0.5 * LENGTH,
+        phi: std::f64::consts::FRAC_PI_2,
+    };
+    let cx = scene.cx();
+    let mut found = vec![scene.found(turned, 0.9)];
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair_along_edge(&mut found, &mut maps, &cx, &offsets, 4.5);
+    assert_eq!(repaired, 1);
+    assert_found(&found, &truth[..1]);
+}
+
 /// A rod standing across the bottom edge, cut by it (0.8 of it seen), beside a rod lying
 /// along it: both true, both left as they are.
 #[test]
