@@ -663,8 +663,6 @@ impl<'m> Local<'m> {
         self.update_coarse(b);
     }
 
-    /// Takes rod `g` off the maps (as [`Local::unpaint`]) and returns the total its pose
-    /// scores on what is left: the figure a trial's fits must beat.
     /// What `read` reads on the maps with rod `g` taken off; the maps are left as they were.
     fn without<R>(
         &mut self,
@@ -681,6 +679,8 @@ impl<'m> Local<'m> {
         out
     }
 
+    /// Takes rod `g` off the maps (as [`Local::unpaint`]) and returns the total its pose
+    /// scores on what is left: the figure a trial's fits must beat.
     fn take_off(&mut self, found: &[Found], g: usize, cx: &Context) -> f64 {
         self.unpaint(found, g, &[], cx);
         let pose = found[g].pose;
