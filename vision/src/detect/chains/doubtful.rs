@@ -3,7 +3,7 @@
 
 use super::{
     Context, Found, Local, Maps, Parts, SetTrials, Window, centred_inside, fit, fit_reads,
-    in_order, refit_together, turn, with_nearest,
+    in_order, offsets, refit_together, turn, with_nearest,
 };
 use crate::detect::model::Pose;
 
@@ -260,7 +260,7 @@ impl SetTrials for Doubtful<'_> {
         if !pair.is_empty() {
             let axis = Some(found[pair[0]].pose.phi);
             if let Some((fits, gain)) = refit_together(local, found, pair, cx, search, axis, &[])
-                && gain > PAIR_GAIN * cx.length * cx.width
+                && gain > cx.least_gain()
                 && fits
                     .iter()
                     .all(|f| f64::from(f.score.agreement) >= DOUBTFUL)
@@ -277,7 +277,7 @@ impl SetTrials for Doubtful<'_> {
         // leaving its place unexplained).
         if rows.len() > 1
             && let Some((fits, gain)) = refit_together(local, found, rows, cx, search, *around, &[])
-            && gain > PAIR_GAIN * cx.length * cx.width
+            && gain > cx.least_gain()
             && fits
                 .iter()
                 .all(|f| f64::from(f.score.agreement) >= DOUBTFUL)
@@ -333,17 +333,10 @@ fn at_either_angle(
 /// are refitted together with it; a rod turned by more is one of the rows around.
 const PARALLEL_DEG: f64 = 15.0;
 
-/// Least gain (parts of L x W, in score) of a doubtful rod refitted together with the rod
-/// turned otherwise next to it, as the other repairs that change a rod's angle ask.
-const PAIR_GAIN: f64 = 0.1;
-
 /// Whether rod pose `new` lies in the row of rod pose `old`: less than half a width across
 /// its axis, and half a length along it.
 fn in_its_row(old: Pose, new: Pose, cx: &Context) -> bool {
-    let (s, c) = old.phi.sin_cos();
-    let (dx, dy) = (new.x - old.x, new.y - old.y);
-    let along = dx * c - dy * s;
-    let across = dx * s + dy * c;
+    let (along, across) = offsets(old.x, old.y, old.phi, new.x, new.y);
     across.abs() < 0.5 * cx.width && along.abs() < 0.5 * cx.length
 }
 

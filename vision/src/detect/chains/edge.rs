@@ -28,10 +28,6 @@ const ACROSS_DEG: f64 = 60.0;
 /// refitted 29 degrees off, across a column of rods, left a false rod beside it).
 const ALONG_DEG: f64 = 30.0;
 
-/// Least gain (parts of a rod's area L x W, in score) for a trial to be kept, as in the
-/// outside repair: nudges of a rod gain less.
-const LEAST_GAIN: f64 = 0.1;
-
 /// Least unexplained dark area (parts of L x W) left between the refitted rod and the edge
 /// that a rod is fitted in: 0.8 of the least part of a stub kept ([`STUB_SEEN`]), as it
 /// was 0.2 of `min_visible` (a quarter) before stubs centred outside were kept. At 0.2, the
@@ -209,8 +205,8 @@ impl AlongEdge<'_> {
     /// along its edge, seeded at least three quarters of a width in from it; the others are
     /// refitted from their poses, each agreeing as a stub must; then up to [`MOST_STUBS`]
     /// stubs between the rod and the edge ([`AlongEdge::stub`]). Kept when the rod along
-    /// the edge passes the acceptance and the fits score more, by [`LEAST_GAIN`], than the
-    /// old poses did on the maps without them and than the same trial with a rod fitted
+    /// the edge passes the acceptance and the fits score more, by [`Context::least_gain`],
+    /// than the old poses did on the maps without them and than the same trial with a rod fitted
     /// afresh in the turned rod's place over every angle, unless that rod is the one along
     /// the edge ([`same_rod`]: lab rod53 at 10 px/mm, seed 9, a refit that gained 0.105
     /// L x W was refused against itself). The maps are left as they were.
@@ -261,7 +257,7 @@ impl AlongEdge<'_> {
         };
         local.restore(window, &saved);
         let (fits, new_total) = fits?;
-        let least = LEAST_GAIN * cx.length * cx.width;
+        let least = cx.least_gain();
         if new_total - old_total <= least {
             return None;
         }

@@ -36,12 +36,6 @@ const NEAR_MOST: usize = 4;
 /// a width of its axis, are the column it lies in: tried alone first.
 const ON_AXIS_DEG: f64 = 15.0;
 
-/// Least gain (parts of a rod's area L x W, in score) for a trial to be kept: a whole rod
-/// seen scores about 0.85 of it. Refits that only nudged rods gained less than 0.04, and one
-/// of them turned a rod later (lab rod53 at 6 px/mm, seed 3: 2.96 -> 3.20 degrees); the
-/// trials kept on lab seeds 1 and 2 gained 0.10-0.99.
-const LEAST_GAIN: f64 = 0.1;
-
 /// The settings of [`repair_outside`]'s trials.
 struct Outside<'a> {
     offsets: &'a [(f64, f64)],
@@ -59,10 +53,10 @@ impl Outside<'_> {
     /// added where at least a third of a rod is left unexplained (each agreeing as an added
     /// rod must); the rod outside fitted last in what is left, taken away when it fails.
     /// Kept when at least as many fits are centred inside as rods inside were taken off, and
-    /// they score more, by [`LEAST_GAIN`], than the old poses did on the maps without them:
-    /// returned as the rods taken off (those inside, then `g`) and a fit for each in that
-    /// order ([`GONE`] for one that failed), then the added ones. The maps are left as they
-    /// were.
+    /// they score more, by [`Context::least_gain`], than the old poses did on the maps
+    /// without them: returned as the rods taken off (those inside, then `g`) and a fit for
+    /// each in that order ([`GONE`] for one that failed), then the added ones. The maps are
+    /// left as they were.
     fn refit(
         &self,
         local: &mut Local,
@@ -134,8 +128,7 @@ impl Outside<'_> {
             .filter(|ft| centred_inside(ft.pose, free))
             .count();
         let gain = new_total - old_total;
-        (fitted_inside >= inside.len() && gain > LEAST_GAIN * cx.length * cx.width)
-            .then_some((rods, fits))
+        (fitted_inside >= inside.len() && gain > cx.least_gain()).then_some((rods, fits))
     }
 }
 

@@ -7,10 +7,6 @@ use super::{
 };
 use crate::detect::model::Pose;
 
-/// Least gain (parts of a rod's area L x W, in score) for a trial that keeps one rod fewer
-/// than it fits, as in the edge and outside repairs: nudges of a rod gain less.
-const PARTIAL_GAIN: f64 = 0.1;
-
 /// Least part of a rod seen for it to count as whole in the photograph: 1 but for the
 /// rounding of the sums.
 const WHOLE: f64 = 0.99;
@@ -242,7 +238,7 @@ impl Turned<'_> {
             // along it: a rod along the edge with the stub of a cut rod beyond it reads the
             // same dark area turned (seed 3).
             fitted.len() + 1 == self.n
-                && gain > PARTIAL_GAIN * cx.length * cx.width
+                && gain > cx.least_gain()
                 && fitted.iter().all(|ft| {
                     f64::from(ft.score.visible) >= WHOLE
                         && !across_edge(ft.pose, &local.maps.free, cx)
