@@ -69,13 +69,18 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             Ok(r) if r.grains == 0 => {
                 eprintln!("warning: no grains found in {}", photo.display())
             }
-            Ok(r) => println!(
-                "{}: {} grains ({} cut by the frame) -> {}",
-                photo.display(),
-                r.grains,
-                r.cut,
-                r.table.display()
-            ),
+            Ok(r) => {
+                println!(
+                    "{}: {} grains ({} cut by the frame) -> {}",
+                    photo.display(),
+                    r.grains,
+                    r.cut,
+                    r.table.display()
+                );
+                if let Some(explained) = r.explained.filter(|&e| e < vision::WELL_EXPLAINED) {
+                    eprintln!("warning: {}", poorly_explained(photo, explained, &args));
+                }
+            }
             Err(e) => {
                 failed += 1;
                 eprintln!("error: {e:#}");
@@ -86,4 +91,25 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bail!("{failed} of {} photographs failed", list.len());
     }
     Ok(())
+}
+
+/// Why a photograph whose darkness the grains found leave largely unexplained deserves a look.
+fn poorly_explained(photo: &std::path::Path, explained: f64, args: &Args) -> String {
+    let what = match args.shape {
+        Shape::Square => "--shape".to_string(),
+        Shape::Rod => {
+            let aspect = format!("{:.3}", args.aspect);
+            let aspect = aspect.trim_end_matches('0').trim_end_matches('.');
+            format!("--shape and --aspect (given {aspect})")
+        }
+    };
+    format!(
+        "{}: the grains found explain only {:.0} % of the dark area, below the {:.0} % that the \
+         right outline exceeds on every benchmark photograph: the grains may not be the ones \
+         asked for; check {what} and --px-per-mm ({}), or look at --overlay",
+        photo.display(),
+        100.0 * explained,
+        100.0 * vision::WELL_EXPLAINED,
+        args.px_per_mm
+    )
 }

@@ -4,7 +4,7 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
-use vision::{DetectParams, Detection, GrainShape, detect};
+use vision::{DetectParams, Detection, GrainShape, detect_report};
 
 use crate::deposit::{Deposit, Grain, fold_angle};
 use crate::io::write_atomic;
@@ -102,6 +102,8 @@ pub struct PhotoResult {
     pub table: PathBuf,
     pub grains: usize,
     pub cut: usize,
+    /// Fraction of the photograph's darkness the grains found explain ([`vision::Report`]).
+    pub explained: Option<f64>,
 }
 
 /// Detects the grains of one photograph and writes `<stem>.csv` (and `<stem>_overlay.png`)
@@ -113,7 +115,9 @@ pub fn detect_photo(
     overlay: bool,
 ) -> anyhow::Result<PhotoResult> {
     let image = read_photo(photo, params.max_pixels)?;
-    let found = detect(&image, params).with_context(|| format!("in {}", photo.display()))?;
+    let report =
+        detect_report(&image, params).with_context(|| format!("in {}", photo.display()))?;
+    let found = report.grains;
     let stem = photo
         .file_stem()
         .and_then(|s| s.to_str())
@@ -132,6 +136,7 @@ pub fn detect_photo(
         table,
         grains: found.len(),
         cut: found.iter().filter(|d| d.cut).count(),
+        explained: report.explained,
     })
 }
 

@@ -17,6 +17,8 @@ pub mod overlay;
 pub mod packing;
 pub mod render;
 
-pub use detect::{DetectError, DetectParams, Detection, detect};
+pub use detect::{
+    DetectError, DetectParams, Detection, Report, WELL_EXPLAINED, detect, detect_report,
+};
 pub use grain::{Frame, GrainOutline, GrainShape};
 pub use outline::ROUNDING_FRACTION;

@@ -28,7 +28,12 @@ type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64, Option<f64>);
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
 
-pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) -> Vec<Found> {
+/// The grains found, and the darkness they leave unexplained (`free`).
+pub fn find_grains(
+    dark: &Plane,
+    blobs: &[BrightBlob],
+    params: &DetectParams,
+) -> (Vec<Found>, Plane) {
     let px_per_mm = params.scale * 1e-3;
     let factor = (px_per_mm / COARSE_PX_PER_MM).floor().max(1.0) as usize;
     let f = factor as f64;
@@ -342,8 +347,9 @@ pub fn find_grains(dark: &Plane, blobs: &[BrightBlob], params: &DetectParams) ->
         // that the row repairs before could not see: rows near a moved rod are looked at again.
         let again = near_moved(&found, &rows, 2.0 * length);
         chains::repair(&mut found, &mut maps, &cx, again.into_iter());
+        free = maps.free;
     }
-    found
+    (found, free)
 }
 
 /// The rods moved or added since `old` (the poses then, in order).
