@@ -78,7 +78,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     r.table.display()
                 );
                 if let Some(explained) = r.explained.filter(|&e| e < vision::WELL_EXPLAINED) {
-                    eprintln!("warning: {}", poorly_explained(photo, explained, &args));
+                    let check = what_to_check(&args);
+                    let warning = detection::poorly_explained(photo, explained, &check);
+                    eprintln!("warning: {warning}");
                 }
             }
             Err(e) => {
@@ -93,9 +95,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Why a photograph whose darkness the grains found leave largely unexplained deserves a look.
-fn poorly_explained(photo: &std::path::Path, explained: f64, args: &Args) -> String {
-    let what = match args.shape {
+/// What to check when a photograph's dark area is left largely unexplained.
+fn what_to_check(args: &Args) -> String {
+    let shape = match args.shape {
         Shape::Square => "--shape".to_string(),
         Shape::Rod => {
             let aspect = format!("{:.3}", args.aspect);
@@ -104,12 +106,7 @@ fn poorly_explained(photo: &std::path::Path, explained: f64, args: &Args) -> Str
         }
     };
     format!(
-        "{}: the grains found explain only {:.0} % of the dark area, below the {:.0} % that the \
-         right outline exceeds on every benchmark photograph: the grains may not be the ones \
-         asked for; check {what} and --px-per-mm ({}), or look at --overlay",
-        photo.display(),
-        100.0 * explained,
-        100.0 * vision::WELL_EXPLAINED,
+        "{shape} and --px-per-mm ({}), or look at --overlay",
         args.px_per_mm
     )
 }

@@ -140,6 +140,19 @@ pub fn detect_photo(
     })
 }
 
+/// The warning for a photograph whose dark area the grains found leave largely unexplained
+/// (below [`vision::WELL_EXPLAINED`]): `check` names what the user should look at.
+pub fn poorly_explained(photo: &Path, explained: f64, check: &str) -> String {
+    format!(
+        "{}: the grains found explain only {:.0} % of the dark area, below the {:.0} % that the \
+         right outline exceeds on every benchmark photograph: the grains may not be the ones \
+         asked for; check {check}",
+        photo.display(),
+        100.0 * explained,
+        100.0 * vision::WELL_EXPLAINED,
+    )
+}
+
 /// Decodes a photograph, refusing one larger than `max_pixels` before decoding it.
 pub fn read_photo(path: &Path, max_pixels: u64) -> anyhow::Result<image::DynamicImage> {
     let open = || {

@@ -13,7 +13,7 @@ use indicatif::ProgressBar;
 use rayon::prelude::*;
 use vision::evaluate::{Tally, Truth, score};
 use vision::overlay::draw_outlines;
-use vision::{DetectParams, Detection, detect};
+use vision::{DetectParams, Detection, detect_report};
 
 use super::layout::Layout;
 use super::photograph::Photo;
@@ -22,7 +22,7 @@ use crate::deposit::{
     Deposit, DepositMeta, FrameMm, Source, meta_path, read_deposit_csv, write_deposit_csv,
     write_meta_json,
 };
-use crate::detection::{grain_shape, read_photo, to_deposit};
+use crate::detection::{grain_shape, poorly_explained, read_photo, to_deposit};
 use crate::grains::GrainKind;
 use crate::io::write_atomic;
 use crate::photo::outline_of;
@@ -69,7 +69,7 @@ pub fn detect_all(
         .par_iter()
         .zip(first)
         .map(|(p, overlay)| {
-            let r = detect_one(p, layout, overlay)
+            let r = detect_one(p, layout, overlay, bar)
                 .with_context(|| format!("photograph {}", p.path.display()));
             bar.inc(1);
             r
@@ -78,7 +78,12 @@ pub fn detect_all(
     results.into_iter().collect()
 }
 
-fn detect_one(photo: &Photo, layout: &Layout, want_overlay: bool) -> anyhow::Result<Detected> {
+fn detect_one(
+    photo: &Photo,
+    layout: &Layout,
+    want_overlay: bool,
+    bar: &ProgressBar,
+) -> anyhow::Result<Detected> {
     let dir = layout.detected_dir(photo.kind, photo.phi0);
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let stem = photo
@@ -95,8 +100,14 @@ fn detect_one(photo: &Photo, layout: &Layout, want_overlay: bool) -> anyhow::Res
         let params = DetectParams::new(shape_of(photo.kind)?, scale);
         let image = read_photo(&photo.path, params.max_pixels)?;
         let start = Instant::now();
-        let found = detect(&image, &params)?;
+        let report = detect_report(&image, &params)?;
         seconds = Some(start.elapsed().as_secs_f64());
+        if let Some(explained) = report.explained.filter(|&e| e < vision::WELL_EXPLAINED) {
+            let check = "the photograph's shape and px_per_mm in the manifest";
+            let warning = poorly_explained(&photo.path, explained, check);
+            bar.println(format!("warning: {warning}"));
+        }
+        let found = report.grains;
         if want_overlay {
             let drawn = draw_outlines(&image, &found, scale);
             write_atomic(&overlay_path, |w| {
