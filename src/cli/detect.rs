@@ -77,9 +77,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     r.cut,
                     r.table.display()
                 );
-                if let Some(explained) = r.explained.filter(|&e| e < vision::WELL_EXPLAINED) {
-                    let check = what_to_check(&args);
-                    let warning = detection::poorly_explained(photo, explained, &check);
+                let check = what_to_check(&args);
+                if let Some(warning) = detection::poorly_explained(photo, r.explained, &check) {
                     eprintln!("warning: {warning}");
                 }
             }

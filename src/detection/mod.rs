@@ -102,7 +102,7 @@ pub struct PhotoResult {
     pub table: PathBuf,
     pub grains: usize,
     pub cut: usize,
-    /// Fraction of the photograph's darkness the grains found explain ([`vision::Report`]).
+    /// Fraction of the photograph's dark pixels the grains found explain ([`vision::Report`]).
     pub explained: Option<f64>,
 }
 
@@ -141,16 +141,18 @@ pub fn detect_photo(
 }
 
 /// The warning for a photograph whose dark area the grains found leave largely unexplained
-/// (below [`vision::WELL_EXPLAINED`]): `check` names what the user should look at.
-pub fn poorly_explained(photo: &Path, explained: f64, check: &str) -> String {
-    format!(
+/// (`explained` below [`vision::WELL_EXPLAINED`]), if it is: `check` names what the user
+/// should look at.
+pub fn poorly_explained(photo: &Path, explained: Option<f64>, check: &str) -> Option<String> {
+    let explained = explained.filter(|&e| e < vision::WELL_EXPLAINED)?;
+    Some(format!(
         "{}: the grains found explain only {:.0} % of the dark area, below the {:.0} % that the \
          right outline exceeds on every benchmark photograph: the grains may not be the ones \
          asked for; check {check}",
         photo.display(),
         100.0 * explained,
         100.0 * vision::WELL_EXPLAINED,
-    )
+    ))
 }
 
 /// Decodes a photograph, refusing one larger than `max_pixels` before decoding it.

@@ -102,9 +102,8 @@ fn detect_one(
         let start = Instant::now();
         let report = detect_report(&image, &params)?;
         seconds = Some(start.elapsed().as_secs_f64());
-        if let Some(explained) = report.explained.filter(|&e| e < vision::WELL_EXPLAINED) {
-            let check = "the photograph's shape and px_per_mm in the manifest";
-            let warning = poorly_explained(&photo.path, explained, check);
+        let check = "the photograph's shape and px_per_mm in the manifest";
+        if let Some(warning) = poorly_explained(&photo.path, report.explained, check) {
             bar.println(format!("warning: {warning}"));
         }
         let found = report.grains;
