@@ -1,0 +1,305 @@
+//! Rows of rods touching end to end show one long dark bar with one continuous highlight; the
+//! junctions leave no cue, and the rods may be fitted shifted by part of a length, leaving a
+//! stub shorter than a rod at each end of the row (rod3, ordered, lab, 10 px/mm: most of the
+//! missed rods). Such a row is refitted shifted onto one stub, with one rod more in the room
+//! left at the other end ([`repair`]).
+
+use super::{Context, Found, Local, Maps, Window, along, fit, offsets, turn};
+use crate::detect::model::Pose;
+use crate::detect::plane::Plane;
+
+/// Darkness not yet explained along a rod's axis beyond its end `sign` (+1: the end the axis
+/// points to), from the end on: how far it stays dark (pixels, at most `limit`).
+fn stub(free: &Plane, pose: Pose, sign: f64, half_length: f64, width: f64, limit: f64) -> f64 {
+    stub_to_edge(free, pose, sign, half_length, width, limit).0
+}
+
+/// [`stub`], and whether it ends at the photograph's edge rather than on light.
+fn stub_to_edge(
+    free: &Plane,
+    pose: Pose,
+    sign: f64,
+    half_length: f64,
+    width: f64,
+    limit: f64,
+) -> (f64, bool) {
+    let (s, c) = pose.phi.sin_cos();
+    let (ux, uy) = (c, -s);
+    // Across the axis: (sin phi, cos phi).
+    let (vx, vy) = (s, c);
+    let mut t = 0.0;
+    while t < limit {
+        let a = sign * (half_length + t + 0.5);
+        let mut sum = 0.0;
+        for b in [-0.25 * width, 0.0, 0.25 * width] {
+            let (x, y) = (pose.x + a * ux + b * vx, pose.y + a * uy + b * vy);
+            if x < 0.0 || y < 0.0 || x >= free.width as f64 || y >= free.height as f64 {
+                return (t, true);
+            }
+            sum += free.at(x as usize, y as usize);
+        }
+        if sum < 1.5 {
+            return (t, false);
+        }
+        t += 1.0;
+    }
+    (t, false)
+}
+
+/// Least room (parts of a length) for the rod a row shifted along itself leaves at the
+/// photograph's edge, cut there. Before the highlight was scaled to what of it is seen, rods
+/// added mostly outside the photograph with a third of a length cost rod53 0.6 degrees and
+/// this was 0.7; since, 0.4 made no lab orientation RMS worse on seeds 1 and 2 and refitted a
+/// row shifted onto a rod turned across it (lab rod53 at 6 px/mm 2.52 -> 1.98 degrees on seed
+/// 1; 0.25 did about the same).
+const EDGE_ROOM: f64 = 0.4;
+
+/// Least dark beyond a rod's end (parts of a length) read as the stub of a rod its row was
+/// shifted off. 0.15 found one rod more in lab rod3 at 10 px/mm and lost one at 6 px/mm
+/// (seed 1).
+const LEAST_STUB: f64 = 0.2;
+
+/// Repairs rows of rods shifted along themselves; `found` and `maps` are updated together.
+/// A row may also have been shifted onto a rod fitted turned across it where its next rod
+/// lies (the rod along the row in that place is missed): that rod is refitted along the row
+/// in the room the shifted row leaves, when it gains [`Context::least_gain`].
+/// The rods `tried` are looked at in their order, each repaired at most once, so the outcome
+/// does not depend on the thread count. Returns the number of rows repaired.
+pub fn repair(
+    found: &mut Vec<Found>,
+    maps: &mut Maps,
+    cx: &Context,
+    tried: impl Iterator<Item = usize>,
+) -> usize {
+    let (length, width) = (cx.length, cx.width);
+    let half = 0.5 * length;
+    let mut local = Local::new(maps, cx);
+    let (ex, ey) = cx.model.extent(std::f64::consts::FRAC_PI_4);
+    // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
+    // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
+    let pad = f64::from(ex.max(ey)) + length;
+    let mut touched = vec![false; found.len()];
+    let mut repaired = 0;
+    for g in tried {
+        for sign in [1.0, -1.0] {
+            if touched[g] {
+                break;
+            }
+            let s1 = stub(&local.maps.free, found[g].pose, sign, half, width, length);
+            if s1 < LEAST_STUB * length || s1 > 0.8 * length {
+                continue;
+            }
+            // The row beyond the other end, its poses turned to point as this one's.
+            // Its far end must show the other stub, the two making about one rod: then the
+            // row shifted onto this stub leaves room for one rod at the far end.
+            let row = chain(found, g, -sign, length, width);
+            if row.iter().any(|&k| touched[k]) {
+                continue;
+            }
+            let phi = found[g].pose.phi;
+            let aligned: Vec<Pose> = row
+                .iter()
+                .map(|&k| {
+                    let p = found[k].pose;
+                    let turned = (p.phi - phi).cos() < 0.0;
+                    Pose {
+                        phi: if turned {
+                            p.phi + std::f64::consts::PI
+                        } else {
+                            p.phi
+                        },
+                        ..p
+                    }
+                })
+                .collect();
+            let last = *aligned.last().expect("the row holds its first rod");
+            // A rod turned across the row where its next rod would lie: the room the row
+            // leaves there is measured with it taken off, and it becomes the rod added.
+            let crossing = turned_in_row(found, last, -sign, cx)
+                .filter(|&t| !touched[t] && seen(found[t].pose, &local, cx) >= CROSSING_SEEN);
+            // A row running into the photograph's edge: its last rod may be cut there, so the
+            // room at that end need only hold part of a rod ([`EDGE_ROOM`]).
+            let room_beyond = |free: &Plane| stub_to_edge(free, last, -sign, half, width, length);
+            let (s2, at_edge) = match crossing {
+                Some(t) => local.without(found, t, cx, |l| room_beyond(&l.maps.free)),
+                None => room_beyond(&local.maps.free),
+            };
+            // The rod a crossing one becomes must lie whole in the photograph.
+            if crossing.is_some() && at_edge {
+                continue;
+            }
+            let room = s1 + s2;
+            let fits = if at_edge {
+                room > EDGE_ROOM * length && room < 1.3 * length
+            } else {
+                s2 >= LEAST_STUB * length && (room - length).abs() <= 0.3 * length
+            };
+            if !fits {
+                continue;
+            }
+            // The rod added in the room left; at the edge, none when less of it than a stub
+            // would lie inside the photograph: the row's last rod reached so far beyond the
+            // edge that the room is outside it. With more inside, the rod must be fitted there:
+            // dropped with a third of it inside (at 0.4), it let a row lying right at the edge
+            // be shifted off it onto a rod standing across its far end.
+            let added = along(last, sign * s1 - sign * length);
+            let adds = !at_edge || inside(&local.maps.free, added, half) >= LEAST_STUB * length;
+            let starts: Vec<Pose> = aligned
+                .iter()
+                .map(|&p| along(p, sign * s1))
+                .chain(adds.then_some(added))
+                .collect();
+            // The maps change in a window holding the row before and after, undone there
+            // when the repair is not kept.
+            let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+            let crossing_pose = crossing.map(|t| found[t].pose);
+            for p in aligned.iter().chain(&starts).chain(&crossing_pose) {
+                (x0, x1) = (x0.min(p.x), x1.max(p.x));
+                (y0, y1) = (y0.min(p.y), y1.max(p.y));
+            }
+            let window = Window::around(
+                0.5 * (x0 + x1),
+                0.5 * (y0 + y1),
+                0.5 * (x1 - x0) + pad,
+                0.5 * (y1 - y0) + pad,
+                &local.maps.free,
+            );
+            let original = local.save(window);
+            let members: Vec<usize> = row.iter().copied().chain(crossing).collect();
+            for &k in &members {
+                local.unpaint(found, k, &members, cx);
+            }
+            let without = local.save(window);
+            let mut old_total = 0.0;
+            for &p in aligned.iter().chain(&crossing_pose) {
+                let sc = cx.model.score(p, cx.levels.fine, &local.maps.free_bordered);
+                old_total += f64::from(sc.total);
+                local.paint(p, window, cx);
+            }
+            local.restore(window, &without);
+            let mut new_total = 0.0;
+            let mut fitted = Vec::with_capacity(aligned.len() + 1);
+            let mut good = true;
+            for start in starts {
+                let ft = fit::refine(&local.levels(cx), start, 0.5 * cx.levels.factor);
+                if !cx.passes(&ft, local.box_of(ft.pose, cx.model), window) {
+                    good = false;
+                    break;
+                }
+                new_total += f64::from(ft.score.total);
+                local.paint(ft.pose, window, cx);
+                fitted.push(ft);
+            }
+            // A rod turned across the row is only refitted along it for a clear gain.
+            let least = if crossing.is_some() {
+                cx.least_gain()
+            } else {
+                0.0
+            };
+            if !good || new_total <= old_total + least {
+                local.restore(window, &original);
+                continue;
+            }
+            let added_to = crossing.unwrap_or(usize::MAX);
+            for (k, ft) in row.iter().chain(std::iter::once(&added_to)).zip(&fitted) {
+                let g = cx.found(ft);
+                if *k == usize::MAX {
+                    found.push(g);
+                    touched.push(true);
+                } else {
+                    found[*k] = g;
+                    touched[*k] = true;
+                }
+            }
+            repaired += 1;
+        }
+    }
+    repaired
+}
+
+/// Least part of a rod turned across a row that must be seen for it to be refitted along
+/// the row: the totals compared are read on what is seen, so a rod the edge cuts by more
+/// counts too little against a whole one (lab rod53 at 10 px/mm, seed 3: a true rod
+/// standing across the top edge, 0.67 seen, was replaced by one along the row).
+const CROSSING_SEEN: f64 = 0.9;
+
+/// The part of rod pose `p`'s outline inside the photograph.
+fn seen(p: Pose, local: &Local, cx: &Context) -> f64 {
+    let score = cx.model.score(p, cx.levels.fine, &local.maps.free_bordered);
+    f64::from(score.visible)
+}
+
+/// Least turn (degrees) of a rod lying across a row where its next rod would lie.
+const CROSSING_DEG: f64 = 60.0;
+
+/// The rod turned across the row of `last` beyond its end `sign`, lying where the row's
+/// next rod would: its centre about half a width past that end, within half a width of the
+/// row's axis.
+fn turned_in_row(found: &[Found], last: Pose, sign: f64, cx: &Context) -> Option<usize> {
+    let at = 0.5 * (cx.length + cx.width);
+    (0..found.len()).find(|&k| {
+        let p = found[k].pose;
+        let (a, b) = offsets(last.x, last.y, last.phi, p.x, p.y);
+        turn(p.phi, last.phi) > CROSSING_DEG.to_radians()
+            && (sign * a - at).abs() < 0.3 * cx.length
+            && b.abs() < 0.5 * cx.width
+    })
+}
+
+/// Length of a rod's axis (half length `half`) inside the plane, in pixels.
+fn inside(plane: &Plane, pose: Pose, half: f64) -> f64 {
+    let (s, c) = pose.phi.sin_cos();
+    let (ux, uy) = (c, -s);
+    // The axis is pose + t u for t in [-half, half]; each bound of the plane clips t.
+    let (mut lo, mut hi) = (-half, half);
+    for (p, u, bound) in [
+        (pose.x, ux, plane.width as f64),
+        (pose.y, uy, plane.height as f64),
+    ] {
+        if u.abs() < 1e-12 {
+            if p < 0.0 || p > bound {
+                return 0.0;
+            }
+            continue;
+        }
+        let (t0, t1) = ((0.0 - p) / u, (bound - p) / u);
+        lo = lo.max(t0.min(t1));
+        hi = hi.min(t0.max(t1));
+    }
+    (hi - lo).max(0.0)
+}
+
+/// Most turn between rods one after another in a row. A rod the photograph's edge cuts is
+/// fitted up to some 7 degrees off its row (lab rod3 at 10 px/mm, seed 1): at 5 the row
+/// stopped before it, and its repair left the cut rod shifted.
+const ROW_TURN_DEG: f64 = 8.0;
+
+/// The accepted rods touching `from` end to end beyond its end `sign`, in order.
+pub(super) fn chain(
+    found: &[Found],
+    from: usize,
+    sign: f64,
+    length: f64,
+    width: f64,
+) -> Vec<usize> {
+    let mut out = vec![from];
+    let mut at = found[from].pose;
+    loop {
+        let next = along(at, sign * length);
+        let hit = (0..found.len()).find(|&k| {
+            let p = found[k].pose;
+            if out.contains(&k) || turn(p.phi, at.phi) > ROW_TURN_DEG.to_radians() {
+                return false;
+            }
+            let (a, b) = offsets(next.x, next.y, at.phi, p.x, p.y);
+            a.abs() < 0.25 * length && b.abs() < 0.25 * width
+        });
+        match hit {
+            Some(k) if out.len() < 8 => {
+                out.push(k);
+                at = found[k].pose;
+            }
+            _ => return out,
+        }
+    }
+}
