@@ -24,8 +24,9 @@ of the others. Times are wall \
 times per photograph of the detector and, apart, of the renderer."
 )]
 pub struct Args {
-    /// CSV table of the results (one row per shape, packing, scale and style, plus the two
-    /// packings pooled).
+    /// CSV table of the results (one row per shape, packing, seed, scale and style, plus the
+    /// two packings of each seed pooled and, with several seeds, everything pooled: seed
+    /// `all`).
     #[arg(long, default_value = "bench-vision.csv")]
     out: PathBuf,
 
@@ -41,15 +42,57 @@ pub struct Args {
     #[arg(long, value_delimiter = ',', default_value = "square,rod53,rod3", value_parser = ["square", "rod53", "rod3"])]
     shapes: Vec<String>,
 
-    /// Seed of the packings and photographs.
-    #[arg(long, default_value_t = 1)]
-    seed: u64,
+    /// Seeds of the packings and photographs: one (`1`), a list (`1,4,7`), a range
+    /// (`12-21`) or a mix. With several, every figure is pooled over them (grains, not seeds,
+    /// weigh equally) and a table per seed follows the pooled one: a target met on one seed
+    /// may not be on the next, since an RMS over a photograph is set by its few grains fitted
+    /// turned.
+    #[arg(long = "seed", default_value = "1", value_parser = parse_seeds)]
+    seeds: Seeds,
+}
+
+/// The seeds `--seed` names, in the order given, each once.
+#[derive(Clone, Debug)]
+struct Seeds(Vec<u64>);
+
+fn parse_seeds(text: &str) -> Result<Seeds, String> {
+    let mut seeds: Vec<u64> = Vec::new();
+    for part in text.split(',').map(str::trim) {
+        let number = |s: &str| {
+            s.trim().parse::<u64>().map_err(|_| {
+                format!("'{s}' in '{text}': expected a seed (a whole number), a list 1,4,7 or a range 12-21")
+            })
+        };
+        let (first, last) = match part.split_once('-') {
+            Some((a, b)) => (number(a)?, number(b)?),
+            None => {
+                let n = number(part)?;
+                (n, n)
+            }
+        };
+        if first > last {
+            return Err(format!("range '{part}' in '{text}' runs backwards"));
+        }
+        if last - first >= 10_000 {
+            return Err(format!(
+                "range '{part}' in '{text}' names more than 10 000 seeds"
+            ));
+        }
+        for seed in first..=last {
+            if !seeds.contains(&seed) {
+                seeds.push(seed);
+            }
+        }
+    }
+    Ok(Seeds(seeds))
 }
 
 #[derive(Clone, Copy)]
 struct Row {
     shape: &'static str,
     packing: &'static str,
+    /// The seed, or none for a row pooled over every seed.
+    seed: Option<u64>,
     px_per_mm: f64,
     style: &'static str,
     photos: usize,
@@ -83,7 +126,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .into_iter()
         .filter(|(name, _)| args.shapes.iter().any(|s| s == name))
         .collect();
-    let total = chosen.len() * packings.len() * args.px_per_mm.len() * styles.len();
+    let total =
+        chosen.len() * packings.len() * args.seeds.0.len() * args.px_per_mm.len() * styles.len();
     let bar = ProgressBar::new(total as u64).with_style(
         ProgressStyle::with_template("{bar:40} {pos}/{len} photographs, {elapsed} {msg}")
             .expect("valid template"),
@@ -95,17 +139,23 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     };
     let mut rows = Vec::new();
     let mut packings_table = String::from(
-        "| shape | packing | grains in frame | packing fraction | deepest overlap (of D) | touching a neighbour | generation s |\n|---|---|---|---|---|---|---|\n",
+        "| shape | packing | seed | grains in frame | packing fraction | deepest overlap (of D) | touching a neighbour | generation s |\n|---|---|---|---|---|---|---|---|\n",
     );
+    let several = args.seeds.0.len() > 1;
     for (shape_name, shape) in chosen {
         let mut pooled: Vec<Row> = Vec::new();
-        for (pi, &(packing, packing_name)) in packings.iter().enumerate() {
-            bar.set_message(format!("packing {shape_name} {packing_name}"));
+        for (&seed, (pi, &(packing, packing_name))) in args
+            .seeds
+            .0
+            .iter()
+            .flat_map(|s| std::iter::repeat(s).zip(packings.iter().enumerate()))
+        {
+            bar.set_message(format!("packing {shape_name} {packing_name} seed {seed}"));
             let start = std::time::Instant::now();
-            let packed = generate(shape, packing, &frame, args.seed.wrapping_add(pi as u64));
+            let packed = generate(shape, packing, &frame, seed.wrapping_add(pi as u64));
             let _ = writeln!(
                 packings_table,
-                "| {shape_name} | {packing_name} | {} | {:.3} | {:.2} % | {:.1} % | {:.2} |",
+                "| {shape_name} | {packing_name} | {seed} | {} | {:.3} | {:.2} % | {:.1} % | {:.2} |",
                 packed.grains.len(),
                 packed.packing_fraction,
                 100.0 * packed.max_overlap,
@@ -123,13 +173,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                         packing,
                         px_per_mm,
                         style_name: style,
-                        seed: args.seed,
+                        seed,
                     };
                     let outcome = run_case(&case, &packed)?;
                     bar.inc(1);
                     let row = Row {
                         shape: shape_name,
                         packing: packing_name,
+                        seed: Some(seed),
                         px_per_mm,
                         style,
                         photos: 1,
@@ -137,25 +188,17 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                         seconds: outcome.detect_seconds,
                         render_seconds: outcome.render_seconds,
                     };
-                    match pooled
-                        .iter_mut()
-                        .find(|r| r.px_per_mm == px_per_mm && r.style == style)
-                    {
-                        Some(p) => {
-                            p.tally += row.tally;
-                            p.photos += 1;
-                            p.seconds += row.seconds;
-                            p.render_seconds += row.render_seconds;
-                        }
-                        None => pooled.push(Row {
-                            packing: "both",
-                            ..row
-                        }),
+                    // Both packings of this seed, and (with several seeds) of every seed.
+                    let pools = [Some(seed)].into_iter().chain(several.then_some(None));
+                    for pool in pools {
+                        pool_into(&mut pooled, row, pool);
                     }
                     rows.push(row);
                 }
             }
         }
+        // Each seed's pooled rows, then those of every seed.
+        pooled.sort_by_key(|r| r.seed.is_none());
         rows.extend(pooled);
     }
     bar.finish_and_clear();
@@ -163,15 +206,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         use std::io::Write;
         writeln!(
             w,
-            "shape,packing,px_per_mm,style,photos,truth_uncut,recall,precision,centre_rms_mm,orientation_rms_deg,turned_grains,unturned_orientation_rms_deg,cut_detections,cut_matched,seconds_per_photo,render_seconds_per_photo"
+            "shape,packing,seed,px_per_mm,style,photos,truth_uncut,recall,precision,centre_rms_mm,orientation_rms_deg,turned_grains,unturned_orientation_rms_deg,cut_detections,cut_matched,seconds_per_photo,render_seconds_per_photo"
         )?;
         for r in &rows {
             let t = &r.tally;
             writeln!(
                 w,
-                "{},{},{},{},{},{},{:.5},{:.5},{:.4},{:.3},{},{:.3},{},{},{:.4},{:.4}",
+                "{},{},{},{},{},{},{},{:.5},{:.5},{:.4},{:.3},{},{:.3},{},{},{:.4},{:.4}",
                 r.shape,
                 r.packing,
+                r.seed.map_or("all".to_string(), |k| k.to_string()),
                 r.px_per_mm,
                 r.style,
                 r.photos,
@@ -190,19 +234,63 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         Ok(())
     })?;
-    println!("{}", markdown(&rows));
+    println!("{}", markdown(&rows, several));
     println!("Packings (258 x 120 mm frame, one core):\n\n{packings_table}");
     eprintln!("table written to {}", args.out.display());
     Ok(())
 }
 
-/// The pooled rows (both packings) as a markdown table.
-fn markdown(rows: &[Row]) -> String {
-    let mut s = String::from(
-        "| shape | px/mm | style | grains | recall | precision | centre RMS (mm) | orientation RMS (deg) | turned > 10 deg | RMS of the rest (deg) | detect s/photo | render s/photo |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n",
+/// Adds a photograph's row to the row of `pooled` that pools both packings of `seed` (none:
+/// of every seed) at its scale and style, started when there is none yet.
+fn pool_into(pooled: &mut Vec<Row>, row: Row, seed: Option<u64>) {
+    let same =
+        |r: &&mut Row| r.seed == seed && r.px_per_mm == row.px_per_mm && r.style == row.style;
+    match pooled.iter_mut().find(same) {
+        Some(p) => {
+            p.tally += row.tally;
+            p.photos += 1;
+            p.seconds += row.seconds;
+            p.render_seconds += row.render_seconds;
+        }
+        None => pooled.push(Row {
+            packing: "both",
+            seed,
+            ..row
+        }),
+    }
+}
+
+/// The pooled rows (both packings) as markdown: with several seeds, those pooled over all of
+/// them, then one table per seed; with one, that seed's.
+fn markdown(rows: &[Row], several: bool) -> String {
+    let both = |r: &&Row| r.packing == "both";
+    if !several {
+        return table(rows.iter().filter(both), false);
+    }
+    let mut s = table(rows.iter().filter(both).filter(|r| r.seed.is_none()), false);
+    s.push_str("\nPer seed:\n\n");
+    s.push_str(&table(
+        rows.iter().filter(both).filter(|r| r.seed.is_some()),
+        true,
+    ));
+    s
+}
+
+/// Rows as a markdown table, with a seed column when `by_seed`.
+fn table<'r>(rows: impl Iterator<Item = &'r Row>, by_seed: bool) -> String {
+    let (head, rule) = if by_seed {
+        ("| seed ", "|---")
+    } else {
+        ("", "")
+    };
+    let mut s = format!(
+        "{head}| shape | px/mm | style | grains | recall | precision | centre RMS (mm) | orientation RMS (deg) | turned > 10 deg | RMS of the rest (deg) | detect s/photo | render s/photo |\n{rule}|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
-    for r in rows.iter().filter(|r| r.packing == "both") {
+    for r in rows {
         let t = &r.tally;
+        if by_seed {
+            let _ = write!(s, "| {} ", r.seed.map_or(String::new(), |k| k.to_string()));
+        }
         let _ = writeln!(
             s,
             "| {} | {} | {} | {} | {:.2} % | {:.2} % | {:.3} | {:.2} | {} | {:.2} | {:.3} | {:.3} |",
@@ -221,4 +309,19 @@ fn markdown(rows: &[Row]) -> String {
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::parse_seeds;
+
+    #[test]
+    fn seeds_are_read_as_lists_and_ranges_each_once() {
+        assert_eq!(parse_seeds("1").unwrap().0, [1]);
+        assert_eq!(parse_seeds("12-14, 3,13").unwrap().0, [12, 13, 14, 3]);
+        let backwards = parse_seeds("5-3").unwrap_err();
+        assert!(backwards.contains("'5-3'"), "{backwards}");
+        let word = parse_seeds("1,x").unwrap_err();
+        assert!(word.contains("'x'") && word.contains("'1,x'"), "{word}");
+    }
 }
