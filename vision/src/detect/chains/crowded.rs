@@ -14,8 +14,8 @@ use crate::detect::model::Pose;
 /// at the seed (all angles), and the rod taken off refined again (Newton from its pose); the
 /// first pair that passes the acceptance's confidence and scores more than the rod alone is
 /// kept. Each trial changes the maps in a window around the seed only. As in
-/// [`repair_turned`], the trials are worked out ahead in parallel and taken over in order
-/// where nothing they read has changed since.
+/// [`repair_turned`](super::repair_turned), the trials are worked out ahead in parallel and
+/// taken over in order where nothing they read has changed since.
 pub fn repair_crowded(
     found: &mut Vec<Found>,
     maps: &mut Maps,

@@ -34,7 +34,8 @@ pub(super) const DOUBTFUL: f64 = 0.75;
 /// The trials are worked out ahead in parallel on copies of the maps (they took a seventh of
 /// a rod photograph's time one after another: each fits three to six rods over every angle);
 /// the rods are then looked at in order, each taking its trial's guess unless a repair kept
-/// before it changed the rods it would refit or what the guess read, as in [`repair_turned`].
+/// before it changed the rods it would refit or what the guess read, as in
+/// [`repair_turned`](super::repair_turned).
 pub fn repair_doubtful(
     found: &mut Vec<Found>,
     maps: &mut Maps,
