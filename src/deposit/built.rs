@@ -11,7 +11,7 @@
 
 use super::{Contact, Deposit, DepositMeta, FrameMm, Grain, Partner, Source, Wall};
 
-/// Parameters of [`square_stack`].
+/// Parameters of a stack of squares, built by [`SquareStack::build`].
 #[derive(Clone, Copy, Debug)]
 pub struct SquareStack {
     pub columns: usize,

@@ -51,7 +51,7 @@ pub struct LoadOptions {
     pub contacts: Option<PathBuf>,
 }
 
-/// Reads `path` and its sidecars (see the module doc of [`super::meta`]).
+/// Reads `path` and its sidecars (see the module doc of `deposit::meta`).
 pub fn load_realisation(path: &Path, options: &LoadOptions) -> anyhow::Result<Realisation> {
     let deposit = read_deposit_csv(path)?;
     let shape = Shape::of_deposit(&deposit)

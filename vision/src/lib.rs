@@ -6,7 +6,7 @@
 //!
 //! - [`packing`]: dense packings of touching grains that stand in for deposits;
 //! - [`render`]: synthetic backlit photographs of grain outlines, in styles;
-//! - [`detect`]: finds the grains of a photograph;
+//! - [`detect`](mod@detect): finds the grains of a photograph;
 //! - [`evaluate`]: matches detections to the truth and scores them; the benchmark.
 
 pub mod detect;

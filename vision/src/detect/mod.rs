@@ -3,17 +3,17 @@
 //! Grains touch face to face with no visible gap, so dark regions cannot be split by
 //! thresholds or watersheds. Instead the detector knows the grain's outline and fits it:
 //!
-//! 1. [`normalise`]: divide out the uneven backlight, map to a darkness in [0, 1];
-//! 2. [`scale`]: check the stated scale against the sizes the photograph shows;
-//! 3. [`seeds`]: candidate positions: nuts' holes (exact centre cues), rods' axis highlights
-//!    ([`ridges`]: a point on the axis and its direction), then the deepest points of the dark
+//! 1. `normalise`: divide out the uneven backlight, map to a darkness in [0, 1];
+//! 2. `scale`: check the stated scale against the sizes the photograph shows;
+//! 3. `seeds`: candidate positions: nuts' holes (exact centre cues), rods' axis highlights
+//!    (`ridges`: a point on the axis and its direction), then the deepest points of the dark
 //!    area not yet explained by accepted grains;
-//! 4. [`fit`]: per candidate, a coarse search over angle and position of the rendered model
-//!    ([`model`]) on a downsampled darkness, then sub-pixel, sub-degree refinement;
-//! 5. [`accept`]: greedy acceptance, best fits first, each accepted grain marking its pixels as
+//! 4. `fit`: per candidate, a coarse search over angle and position of the rendered model
+//!    (`model`) on a downsampled darkness, then sub-pixel, sub-degree refinement;
+//! 5. `accept`: greedy acceptance, best fits first, each accepted grain marking its pixels as
 //!    explained so touching grains separate and duplicates are refused; repeated while new
 //!    seeds in unexplained dark area yield grains;
-//! 6. [`chains`]: rows of rods touching end to end that were fitted shifted along the row
+//! 6. `chains`: rows of rods touching end to end that were fitted shifted along the row
 //!    (a stub of unexplained dark area at each end) are refitted with one rod more; where a
 //!    seed failed beside unexplained dark area, a neighbouring rod is refitted together with a
 //!    rod at the seed (a rod crowded out by its neighbour); a rod fitted across rods lying
