@@ -104,7 +104,9 @@ fn detect_one(
         seconds = Some(start.elapsed().as_secs_f64());
         let check = "the photograph's shape and px_per_mm in the manifest";
         if let Some(warning) = poorly_explained(&photo.path, report.explained, check) {
-            bar.println(format!("warning: {warning}"));
+            // Not `bar.println`: a bar hidden (stderr not a terminal: a log, a pipe) prints
+            // nothing, and the warning would be lost where it is most read.
+            bar.suspend(|| eprintln!("warning: {warning}"));
         }
         let found = report.grains;
         if want_overlay {
