@@ -178,7 +178,7 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
             explained: None,
         });
     }
-    let (found, tally) = if pixels > params.tile_pixels {
+    let (found, dark_area) = if pixels > params.tile_pixels {
         find_in_tiles(image, params)?
     } else {
         find(image, params, [0, 0, width, height])?
@@ -189,7 +189,7 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
         .collect();
     Ok(Report {
         grains,
-        explained: tally.explained(params),
+        explained: dark_area.explained(params),
     })
 }
 
@@ -198,43 +198,47 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
 /// darkness: the field's faint remaining darkness (noise, dust) over a sparse photograph would
 /// outweigh what the grains leave.
 #[derive(Clone, Copy, Debug, Default)]
-struct Tally {
+struct DarkArea {
     dark: u64,
     unexplained: u64,
 }
 
-impl Tally {
-    fn add(self, other: Tally) -> Tally {
-        Tally {
+impl DarkArea {
+    fn add(self, other: DarkArea) -> DarkArea {
+        DarkArea {
             dark: self.dark + other.dark,
             unexplained: self.unexplained + other.unexplained,
         }
     }
 
-    /// `None` below a tenth of one grain's area of dark pixels (dust at most).
+    /// `None` for dust at most ([`least_dark_px`]).
     fn explained(self, params: &DetectParams) -> Option<f64> {
-        let grain_area_px = params.shape.length() * params.shape.width() * params.scale.powi(2);
         let dark = self.dark as f64;
-        (dark >= 0.1 * grain_area_px).then(|| 1.0 - self.unexplained as f64 / dark)
+        (dark >= least_dark_px(params)).then(|| 1.0 - self.unexplained as f64 / dark)
     }
 
     /// Over `region` ([x0, y0, x1, y1], pixels) of the darkness and the free darkness (the
     /// darkness times what is not explained).
-    fn over(dark: &plane::Plane, free: &plane::Plane, region: [u32; 4]) -> Tally {
+    fn over(dark: &plane::Plane, free: &plane::Plane, region: [u32; 4]) -> DarkArea {
         let [x0, y0, x1, y1] = region.map(|v| v as usize);
-        let mut tally = Tally::default();
+        let mut area = DarkArea::default();
         for y in y0..y1.min(dark.height) {
             let row = y * dark.width;
             let (x0, x1) = (row + x0, row + x1.min(dark.width));
             for (&d, &f) in dark.data[x0..x1].iter().zip(&free.data[x0..x1]) {
                 if d > 0.5 {
-                    tally.dark += 1;
-                    tally.unexplained += u64::from(f > 0.5 * d);
+                    area.dark += 1;
+                    area.unexplained += u64::from(f > 0.5 * d);
                 }
             }
         }
-        tally
+        area
     }
+}
+
+/// Fewer dark pixels than a tenth of one grain's area: dust at most.
+fn least_dark_px(params: &DetectParams) -> f64 {
+    0.1 * params.shape.length() * params.shape.width() * params.scale.powi(2)
 }
 
 /// Tiles overlap by `margin` on each side of a core; a grain is kept by the tile whose core
@@ -244,14 +248,14 @@ impl Tally {
 fn find_in_tiles(
     image: &DynamicImage,
     params: &DetectParams,
-) -> Result<(Vec<accept::Found>, Tally), DetectError> {
+) -> Result<(Vec<accept::Found>, DarkArea), DetectError> {
     let (width, height) = image.dimensions();
     let length_px = params.shape.length() * params.scale;
     let margin = (1.5 * length_px).ceil() as u32 + 8;
     let side = ((params.tile_pixels as f64).sqrt() as u32).max(4 * margin);
     let core = side - 2 * margin;
     let mut all = Vec::new();
-    let mut tally = Tally::default();
+    let mut dark_area = DarkArea::default();
     for y0 in (0..height).step_by(core as usize) {
         for x0 in (0..width).step_by(core as usize) {
             let (tx0, ty0) = (x0.saturating_sub(margin), y0.saturating_sub(margin));
@@ -265,7 +269,7 @@ fn find_in_tiles(
             let core_in_tile = [x0 - tx0, y0 - ty0, x0 + core - tx0, y0 + core - ty0];
             let (found, in_core) = find(&tile, params, core_in_tile)?;
             if !found.is_empty() {
-                tally = tally.add(in_core);
+                dark_area = dark_area.add(in_core);
             }
             for mut g in found {
                 let (dx, dy) = (f64::from(tx0), f64::from(ty0));
@@ -279,7 +283,7 @@ fn find_in_tiles(
             }
         }
     }
-    Ok((all, tally))
+    Ok((all, dark_area))
 }
 
 /// The grains of one photograph (or tile), in its pixels, and the darkness over `region`
@@ -288,18 +292,17 @@ fn find(
     image: &DynamicImage,
     params: &DetectParams,
     region: [u32; 4],
-) -> Result<(Vec<accept::Found>, Tally), DetectError> {
+) -> Result<(Vec<accept::Found>, DarkArea), DetectError> {
     let (width, height) = image.dimensions();
     let pixels = width as u64 * height as u64;
     let grey = normalise::grey_plane(image);
     let length_px = params.shape.length() * params.scale;
     let dark = normalise::darkness(&grey, (2.0 * length_px).round() as usize);
     drop(grey);
-    // Less dark area than a tenth of one grain: nothing to find (dust at most).
-    let grain_area_px = params.shape.length() * params.shape.width() * params.scale.powi(2);
-    if dark.dark_fraction * (pixels as f64) < 0.1 * grain_area_px {
-        let tally = Tally::over(&dark.plane, &dark.plane, region);
-        return Ok((Vec::new(), tally));
+    // Nothing to find, and nothing to tell of what is explained: no tile without grains is
+    // counted, and a whole photograph this bare has no fraction.
+    if dark.dark_fraction * (pixels as f64) < least_dark_px(params) {
+        return Ok((Vec::new(), DarkArea::default()));
     }
     // Only nuts use bright blobs (holes, and the scale from their size).
     let blobs = match params.shape {
@@ -310,7 +313,7 @@ fn find(
         check_scale(params, &dark.plane, &blobs)?;
     }
     let (found, free) = accept::find_grains(&dark.plane, &blobs, params);
-    Ok((found, Tally::over(&dark.plane, &free, region)))
+    Ok((found, DarkArea::over(&dark.plane, &free, region)))
 }
 
 fn validate(params: &DetectParams) -> Result<(), DetectError> {
