@@ -2,7 +2,7 @@
 //! its own angle. Before the detector scored each rod's axis highlight against the lines flanking
 //! it, short rods in such clusters were fitted across two neighbours or turned by 90 degrees.
 
-use vision::evaluate::bench::{shapes, truth_in_frame};
+use vision::evaluate::bench::{FRAME_HEIGHT, FRAME_WIDTH, shapes, truth_in_frame};
 use vision::evaluate::{Tally, score};
 use vision::packing::{PackedFrame, Packing, generate};
 use vision::render::{Style, render};
@@ -15,6 +15,15 @@ fn rod53() -> GrainShape {
         .find(|(n, _)| *n == "rod53")
         .expect("rod53 is a benchmark shape")
         .1
+}
+
+/// The benchmark's 258 x 120 mm frame at 10 px/mm.
+fn bench_frame() -> Frame {
+    Frame {
+        width: FRAME_WIDTH,
+        height: FRAME_HEIGHT,
+        scale: 1e4,
+    }
 }
 
 /// A packing of rod53 filling `frame`, packed and rendered with `seed`, detected and scored.
@@ -78,12 +87,7 @@ fn bench_crop_photo(
     side: f64,
 ) -> (PackedFrame, Frame, image::DynamicImage) {
     let shape = rod53();
-    let bench = Frame {
-        width: 0.258,
-        height: 0.120,
-        scale: 1e4,
-    };
-    let packed = generate(shape, packing, &bench, seed);
+    let packed = generate(shape, packing, &bench_frame(), seed);
     let (x0, y0) = (x - 0.5 * side, y - 0.5 * side);
     let frame = Frame {
         width: side,
@@ -171,12 +175,7 @@ fn a_rod_across_two_is_turned_by_the_crowded_repair() {
 /// compete depend on the whole photograph's rounds.
 #[test]
 fn a_fit_put_off_holds_its_place() {
-    let frame = Frame {
-        width: 0.258,
-        height: 0.120,
-        scale: 1e4,
-    };
-    let tally = packing_tally(Packing::Ordered, &Style::lab(), &frame, 22);
+    let tally = packing_tally(Packing::Ordered, &Style::lab(), &bench_frame(), 22);
     assert!(tally.truth_uncut > 1500, "{tally:?}");
     assert_eq!(tally.turned, 0, "{tally:?}");
     // The targets at 10 px/mm, on this photograph.
