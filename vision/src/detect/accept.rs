@@ -1,13 +1,18 @@
 //! Greedy acceptance with explained-pixel bookkeeping: the best fits are accepted first and
 //! paint their outline into an "explained" map; a later fit that would cover explained pixels
-//! loses agreement and is refused or refitted in the next round. Each round seeds new fits
-//! in the dark area no accepted grain explains yet.
+//! loses agreement and is refined again in its place, refused, or refitted in the next round.
+//! Each round seeds new fits in the dark area no accepted grain explains yet.
+
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
 
 use rayon::prelude::*;
 
 use super::DetectParams;
 use super::chains;
 use super::fit::{self, Levels};
+#[cfg(test)]
+use super::model::Score;
 use super::model::{Model, Pose};
 use super::nearby::Nearby;
 use super::plane::{Bordered, Plane};
@@ -27,6 +32,45 @@ type Task<'a> = ((f64, f64), &'a [(f64, f64)], f64, Option<f64>);
 
 /// Coarse level resolution the pose search runs at (pixels per millimetre).
 const COARSE_PX_PER_MM: f64 = 3.0;
+
+/// Times a fit put off for a neighbour accepted before it is refined again in the same round
+/// before it waits for the next round's fit.
+const REFINED_AGAIN: u8 = 2;
+
+/// A fit of seed `k` waiting to be taken: the best first, ties by position (top to bottom,
+/// left to right) then by seed, so the order is the same whatever the thread count.
+#[derive(Clone, Copy)]
+struct Candidate {
+    k: usize,
+    fitted: fit::Fitted,
+    refined_again: u8,
+}
+
+impl Ord for Candidate {
+    fn cmp(&self, other: &Self) -> Ordering {
+        let (a, b) = (&self.fitted, &other.fitted);
+        a.score
+            .total
+            .total_cmp(&b.score.total)
+            .then(b.pose.y.total_cmp(&a.pose.y))
+            .then(b.pose.x.total_cmp(&a.pose.x))
+            .then(other.k.cmp(&self.k))
+    }
+}
+
+impl PartialOrd for Candidate {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Candidate {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Candidate {}
 
 /// The grains found, and the darkness they leave unexplained (`free`).
 pub fn find_grains(
@@ -183,20 +227,16 @@ pub fn find_grains(
             period: params.shape.symmetry_period(),
             finalist_margin,
         };
-        let mut fits: Vec<(usize, fit::Fitted)> = pending
+        let mut fits: BinaryHeap<Candidate> = pending
             .par_iter()
             .enumerate()
-            .map(|(k, &(seed, offsets, step, axis))| {
-                (k, fit::fit(&levels, seed, offsets, step, axis))
+            .map(|(k, &(seed, offsets, step, axis))| Candidate {
+                k,
+                fitted: fit::fit(&levels, seed, offsets, step, axis),
+                refined_again: 0,
             })
-            .collect();
-        fits.sort_by(|(_, a), (_, b)| {
-            b.score
-                .total
-                .total_cmp(&a.score.total)
-                .then(a.pose.y.total_cmp(&b.pose.y))
-                .then(a.pose.x.total_cmp(&b.pose.x))
-        });
+            .collect::<Vec<_>>()
+            .into();
         let mut this_round = Nearby::new(reach);
         let mut accepted_this_round = 0;
         let mut deferred = Vec::new();
@@ -205,7 +245,12 @@ pub fn find_grains(
         // place until it is fitted again.
         let mut held: Vec<Pose> = Vec::new();
         let mut held_near = Nearby::new(reach);
-        for (k, ft) in fits {
+        while let Some(Candidate {
+            k,
+            fitted: ft,
+            refined_again,
+        }) = fits.pop()
+        {
             let seed = pending[k];
             if (ft.score.agreement as f64) < params.min_confidence
                 || (ft.score.visible as f64) < params.min_visible
@@ -245,6 +290,31 @@ pub fn find_grains(
             if (this_round.any_within(centre, reach) || this_round.any_within(seed.0, reach))
                 && now.total < ft.score.total - 0.02 * ft.score.total.abs()
             {
+                // Refined again from where it was, on the maps as they are now: when that wins
+                // back what the neighbour took, the neighbour only nudged it, and it goes back
+                // among the fits still to be taken, at what it scores now.
+                if refined_again < REFINED_AGAIN {
+                    let levels = Levels {
+                        fine: &dark_bordered,
+                        fine_free: &free_bordered,
+                        coarse: &coarse_bordered,
+                        coarse_free: &coarse_free,
+                        fine_model: &fine_model,
+                        coarse_model: &coarse_model,
+                        factor: f,
+                        period: params.shape.symmetry_period(),
+                        finalist_margin,
+                    };
+                    let again = fit::refine(&levels, ft.pose, 0.5 * f);
+                    if again.score.total >= ft.score.total - 0.02 * ft.score.total.abs() {
+                        fits.push(Candidate {
+                            k,
+                            fitted: again,
+                            refined_again: refined_again + 1,
+                        });
+                        continue;
+                    }
+                }
                 deferred.push(seed);
                 if std::ptr::eq(seed.1, &centre_only[..]) {
                     deferred_poses.push(ft.pose);
@@ -440,6 +510,7 @@ fn refresh_coarse(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::detect::model::Score;
     use crate::detect::testing::Lcg;
 
     /// After grains are painted (across the edges too), the refreshed coarse maps are, bit for
@@ -524,5 +595,46 @@ mod tests {
         found[1] = rod(45.0);
         found.push(rod(420.0));
         assert_eq!(near_moved(&found, &old, 50.0), [0, 1, 2, 5, 6]);
+    }
+
+    /// Fits are taken best first, equal scores top to bottom, then left to right, then by
+    /// seed: the order the fits were made in (which depends on the threads) plays no part,
+    /// and a fit refined again and put back is taken at its new score.
+    #[test]
+    fn fits_are_taken_best_first_in_a_fixed_order() {
+        let candidate = |k: usize, total: f32, x: f64, y: f64| Candidate {
+            k,
+            fitted: fit::Fitted {
+                pose: Pose { x, y, phi: 0.0 },
+                score: Score {
+                    total,
+                    agreement: 0.9,
+                    visible: 1.0,
+                },
+            },
+            refined_again: 0,
+        };
+        let all = [
+            candidate(0, 5.0, 10.0, 20.0),
+            candidate(1, 9.0, 30.0, 40.0),
+            candidate(2, 5.0, 10.0, 10.0),
+            candidate(3, 5.0, 5.0, 10.0),
+            candidate(4, 7.0, 0.0, 0.0),
+            candidate(5, 5.0, 5.0, 10.0),
+        ];
+        let taken = |heap: &mut BinaryHeap<Candidate>| {
+            std::iter::from_fn(|| heap.pop().map(|c| c.k)).collect::<Vec<_>>()
+        };
+        let want = [1, 4, 3, 5, 2, 0];
+        let mut forward: BinaryHeap<Candidate> = all.iter().copied().collect();
+        assert_eq!(taken(&mut forward), want);
+        let mut backward: BinaryHeap<Candidate> = all.iter().rev().copied().collect();
+        assert_eq!(taken(&mut backward), want);
+        // Fit 1 is taken first; put back at a lower score, it comes after fit 4.
+        let mut heap: BinaryHeap<Candidate> = all.into_iter().collect();
+        let first = heap.pop().expect("six fits");
+        assert_eq!(first.k, 1);
+        heap.push(candidate(1, 6.0, 30.0, 40.0));
+        assert_eq!(taken(&mut heap), [4, 1, 3, 5, 2, 0]);
     }
 }
