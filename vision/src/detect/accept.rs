@@ -216,9 +216,10 @@ pub fn find_grains(
         if pending.is_empty() {
             break;
         }
-        let levels = Levels {
+        // What the round's fits read but the free darkness, which each grain accepted paints.
+        let unpainted = Levels {
             fine: &dark_bordered,
-            fine_free: &free_bordered,
+            fine_free: &dark_bordered,
             coarse: &coarse_bordered,
             coarse_free: &coarse_free,
             fine_model: &fine_model,
@@ -226,6 +227,10 @@ pub fn find_grains(
             factor: f,
             period: params.shape.symmetry_period(),
             finalist_margin,
+        };
+        let levels = Levels {
+            fine_free: &free_bordered,
+            ..unpainted
         };
         let mut fits: BinaryHeap<Candidate> = pending
             .par_iter()
@@ -295,15 +300,8 @@ pub fn find_grains(
                 // among the fits still to be taken, at what it scores now.
                 if refined_again < REFINED_AGAIN {
                     let levels = Levels {
-                        fine: &dark_bordered,
                         fine_free: &free_bordered,
-                        coarse: &coarse_bordered,
-                        coarse_free: &coarse_free,
-                        fine_model: &fine_model,
-                        coarse_model: &coarse_model,
-                        factor: f,
-                        period: params.shape.symmetry_period(),
-                        finalist_margin,
+                        ..unpainted
                     };
                     let again = fit::refine(&levels, ft.pose, 0.5 * f);
                     if again.score.total >= ft.score.total - 0.02 * ft.score.total.abs() {
