@@ -11,8 +11,6 @@ use rayon::prelude::*;
 use super::DetectParams;
 use super::chains;
 use super::fit::{self, Levels};
-#[cfg(test)]
-use super::model::Score;
 use super::model::{Model, Pose};
 use super::nearby::Nearby;
 use super::plane::{Bordered, Plane};
