@@ -301,7 +301,7 @@ pub fn find_grains(
                         fine_free: &free_bordered,
                         ..unpainted
                     };
-                    let again = fit::refine(&levels, ft.pose, 0.5 * f);
+                    let again = fit::refine(&levels, ft.pose);
                     if again.score.total >= ft.score.total - 0.02 * ft.score.total.abs() {
                         fits.push(Candidate {
                             k,

@@ -158,7 +158,7 @@ pub fn fit(
         if levels.finalist_margin.is_finite() && v < top - levels.finalist_margin * top.abs() {
             continue;
         }
-        let refined = refine(levels, p, 0.5 * f);
+        let refined = refine(levels, p);
         if best
             .as_ref()
             .is_none_or(|b| refined.score.total.total_cmp(&b.score.total).is_ge())
@@ -173,22 +173,28 @@ pub fn fit(
 /// coarse search started from (seed plus offset), with `position_step` and the levels'
 /// `factor`: the finalists' climbs (two sweeps, the step halved) then their refinement.
 pub fn fit_drift(position_step: f64, factor: f64) -> f64 {
-    1.5 * position_step.max(factor) + refine_drift(0.5 * factor)
+    1.5 * position_step.max(factor) + refine_drift(factor)
 }
 
-/// Farthest (pixels, along x or y) that a pose [`refine`] scores lies from its start: the
-/// probes, then steps no longer than the first reach each.
-pub fn refine_drift(position_step: f64) -> f64 {
-    0.5 + NEWTON_STEPS as f64 * position_step.max(0.5)
+/// The reach of [`refine`]'s first steps (pixels), with the levels' `factor`.
+fn refine_step(factor: f64) -> f64 {
+    0.5 * factor
+}
+
+/// Farthest (pixels, along x or y) that a pose [`refine`] scores lies from its start, with
+/// the levels' `factor`: the probes, then steps no longer than the first reach each.
+fn refine_drift(factor: f64) -> f64 {
+    0.5 + NEWTON_STEPS as f64 * refine_step(factor).max(0.5)
 }
 
 /// Newton refinement at full resolution from a starting pose: each pose scored gives the
 /// total and its gradient in one pass over the taps ([`Model::score_with_slopes`]); the
 /// curvature is measured once by differences of the gradient along x, y and the angle, then
 /// kept up to date from the steps taken (BFGS), each step kept inside a box that shrinks
-/// when a step does not pay.
-pub fn refine(levels: &Levels, start: Pose, position_step: f64) -> Fitted {
-    let mut newton = Newton::start(levels, start, position_step);
+/// when a step does not pay. Its first steps reach half a coarse pixel: a start from the
+/// coarse level, or a pose already fitted, is that close.
+pub fn refine(levels: &Levels, start: Pose) -> Fitted {
+    let mut newton = Newton::start(levels, start, refine_step(levels.factor));
     newton.steps(levels, NEWTON_STEPS);
     newton.fitted()
 }

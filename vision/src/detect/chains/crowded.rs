@@ -153,7 +153,7 @@ impl Crowded<'_> {
             let levels = local.levels(cx);
             let ft = match k {
                 0 => fit::fit(&levels, seed, self.offsets, self.step, None),
-                1 => fit::refine(&levels, old, 0.5 * cx.levels.factor),
+                1 => fit::refine(&levels, old),
                 _ => fit::fit(&levels, (old.x, old.y), self.offsets, self.step, None),
             };
             let b = local.box_of(ft.pose, cx.model);

@@ -206,7 +206,7 @@ impl<'s> Row<'s> {
                         local.place(q, b, cx);
                     }
                 }
-                poses[i] = fit::refine(&local.levels(cx), poses[i], 0.5 * cx.levels.factor).pose;
+                poses[i] = fit::refine(&local.levels(cx), poses[i]).pose;
             }
         }
         local.restore(window, &saved);

@@ -181,7 +181,7 @@ pub fn repair(
             let mut fitted = Vec::with_capacity(aligned.len() + 1);
             let mut good = true;
             for start in starts {
-                let ft = fit::refine(&local.levels(cx), start, 0.5 * cx.levels.factor);
+                let ft = fit::refine(&local.levels(cx), start);
                 if !cx.passes(&ft, local.box_of(ft.pose, cx.model), window) {
                     good = false;
                     break;
