@@ -16,6 +16,7 @@ use super::nearby::Nearby;
 use super::plane::{Bordered, Plane};
 use super::ridges;
 use super::seeds::{self, BrightBlob};
+use super::settle::{self, Settling};
 use crate::GrainShape;
 
 /// An accepted grain (full-resolution pixels).
@@ -23,6 +24,14 @@ pub struct Found {
     pub pose: Pose,
     pub corners: [(f64, f64); 4],
     pub confidence: f64,
+}
+
+/// The maps the acceptance keeps: explained opacity and the darkness it leaves free.
+#[derive(Clone)]
+pub struct Maps {
+    pub explained: Plane,
+    pub free: Plane,
+    pub free_bordered: Bordered,
 }
 
 /// A seed to fit: position, offsets to try, first refinement step, known axis angle.
@@ -352,26 +361,28 @@ pub fn find_grains(
             factor,
         );
     }
+    let mut maps = Maps {
+        explained,
+        free,
+        free_bordered,
+    };
+    // What the repairs and the settling read: each refit reads the free darkness of the
+    // moment instead of `fine_free`.
+    let after = Levels {
+        fine: &dark_bordered,
+        fine_free: &dark_bordered,
+        coarse: &coarse_bordered,
+        coarse_free: &coarse_free,
+        fine_model: &fine_model,
+        coarse_model: &coarse_model,
+        factor: f,
+        period: params.shape.symmetry_period(),
+        finalist_margin,
+    };
     if let GrainShape::Rod { .. } = params.shape {
-        let mut maps = chains::Maps {
-            explained,
-            free,
-            free_bordered,
-        };
         let cx = chains::Context {
             dark,
-            levels: Levels {
-                fine: &dark_bordered,
-                // Each refit reads the free darkness of the moment instead.
-                fine_free: &dark_bordered,
-                coarse: &coarse_bordered,
-                coarse_free: &coarse_free,
-                fine_model: &fine_model,
-                coarse_model: &coarse_model,
-                factor: f,
-                period: params.shape.symmetry_period(),
-                finalist_margin,
-            },
+            levels: after,
             model: &fine_model,
             min_confidence: params.min_confidence,
             min_visible: params.min_visible,
@@ -405,7 +416,7 @@ pub fn find_grains(
         );
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
         chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
-        let across = |found: &mut Vec<Found>, maps: &mut chains::Maps, tried: Vec<usize>| {
+        let across = |found: &mut Vec<Found>, maps: &mut Maps, tried: Vec<usize>| {
             chains::repair_across_highlights(
                 found,
                 maps,
@@ -435,9 +446,17 @@ pub fn find_grains(
         // that the row repairs before could not see: rows near a moved rod are looked at again.
         let again = near_moved(&found, &rows, 2.0 * length);
         chains::repair(&mut found, &mut maps, &cx, again.into_iter());
-        free = maps.free;
     }
-    (found, free)
+    // Last, once no repair moves a rod any more: every grain refined against its neighbours
+    // where they ended up.
+    let settling = Settling {
+        dark,
+        levels: after,
+        min_confidence: params.min_confidence,
+        min_visible: params.min_visible,
+    };
+    settle::settle(&mut found, &mut maps, &settling, params.settle_sweeps);
+    (found, maps.free)
 }
 
 /// The rods moved or added since `old` (the poses then, in order).

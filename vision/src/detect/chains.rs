@@ -3,8 +3,8 @@
 //! beside it that no rod fits. Each repair is kept only when it explains the photograph
 //! better (total score).
 //!
-//! Here: the maps the repairs change ([`Maps`]), what else they read ([`Context`]), and the
-//! least gain a trial that turns, adds or drops rods must make to be kept ([`LEAST_GAIN`]).
+//! Here: what the repairs read besides the rods and the acceptance's maps ([`Context`]), and
+//! the least gain a trial that turns, adds or drops rods must make to be kept ([`LEAST_GAIN`]).
 //!
 //! Beside it, one file a repair:
 //! - `row.rs`: rows of rods touching end to end fitted shifted along themselves by part of a
@@ -29,12 +29,14 @@
 //! - `order.rs`: trials worked out ahead in parallel and taken over in order ([`in_order`]).
 //! - `together.rs`: rods refitted together ([`refit_together`]) and the rods near a place.
 
-use super::accept::Found;
+use super::accept::{Found, Maps};
 use super::fit::{self, Levels};
 use super::model::Model;
 #[cfg(test)]
 use super::model::Pose;
-use super::plane::{Bordered, Plane};
+#[cfg(test)]
+use super::plane::Bordered;
+use super::plane::Plane;
 
 mod crowded;
 mod doubtful;
@@ -63,14 +65,6 @@ use order::{Guess, Parts, SetTrials, changed_by, fit_reads, in_order, replay, sp
 #[cfg(test)]
 use row::chain;
 use together::{ADDED_AGREEMENT, Spot, nearest, refit_together, with_nearest};
-
-/// The maps the acceptance keeps: explained opacity and the darkness it leaves free.
-#[derive(Clone)]
-pub struct Maps {
-    pub explained: Plane,
-    pub free: Plane,
-    pub free_bordered: Bordered,
-}
 
 /// Least gain (parts of a rod's area L x W, in score) for a trial that turns, adds or drops
 /// rods to be kept, in every repair that asks one: a whole rod seen scores about 0.85 of it.

@@ -9,6 +9,7 @@ use super::model::{Model, Pose, Score};
 use super::plane::Bordered;
 
 /// The two resolution levels a fit works on.
+#[derive(Clone, Copy)]
 pub struct Levels<'a> {
     pub fine: &'a Bordered,
     /// Darkness not yet explained by accepted grains, full resolution.
@@ -183,7 +184,7 @@ fn refine_step(factor: f64) -> f64 {
 
 /// Farthest (pixels, along x or y) that a pose [`refine`] scores lies from its start, with
 /// the levels' `factor`: the probes, then steps no longer than the first reach each.
-fn refine_drift(factor: f64) -> f64 {
+pub fn refine_drift(factor: f64) -> f64 {
     0.5 + NEWTON_STEPS as f64 * refine_step(factor).max(0.5)
 }
 

@@ -607,6 +607,26 @@ impl Model {
         free_bordered: &mut Bordered,
         clip: (isize, isize, isize, isize),
     ) {
+        let width = explained.width;
+        self.each_covered(pose, width, explained.height, clip, |c, r, cov| {
+            let i = r * width + c;
+            let e = &mut explained.data[i];
+            *e = (*e + cov).min(1.0);
+            free.data[i] = dark.data[i] * (1.0 - *e);
+            free_bordered.set(c, r, free.data[i]);
+        });
+    }
+
+    /// Calls `at(col, row, coverage)` for each pixel of a `width` x `height` plane within
+    /// `clip` (as [`Model::paint_within`]'s) that the pose's outline covers.
+    pub fn each_covered(
+        &self,
+        pose: Pose,
+        width: usize,
+        height: usize,
+        clip: (isize, isize, isize, isize),
+        mut at: impl FnMut(usize, usize, f32),
+    ) {
         let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
         let (px, py) = (pose.x as f32, pose.y as f32);
         let g = &self.geometry;
@@ -615,27 +635,32 @@ impl Model {
             g.half_length + 0.5 * g.soft + 0.01,
             g.half_width + 0.5 * g.soft + 0.01,
         );
-        let (c0, c1, r0, r1) = self.painted_box(pose, explained.width, explained.height);
+        let (c0, c1, r0, r1) = self.painted_box(pose, width, height);
         let (c0, c1) = (c0.max(clip.0), c1.min(clip.1));
         let (r0, r1) = (r0.max(clip.2), r1.min(clip.3));
+        // Deeper inside than half the soft edge along both axes the coverage is 1.
+        let (solid_u, solid_v) = (
+            g.half_length - g.round.max(0.5 * g.soft) - 0.01,
+            g.half_width - g.round.max(0.5 * g.soft) - 0.01,
+        );
         for r in r0..=r1 {
             let dy = r as f32 + 0.5 - py;
             for c in c0..=c1 {
                 let dx = c as f32 + 0.5 - px;
-                let u = dx * cos - dy * sin;
-                let v = dx * sin + dy * cos;
+                let u = (dx * cos - dy * sin).abs();
+                let v = (dx * sin + dy * cos).abs();
                 // Farther out than half the soft edge along either axis the coverage is 0
                 // (the signed distance is at least |u| - half length): no root to take.
-                if u.abs() > reach_u || v.abs() > reach_v {
+                if u > reach_u || v > reach_v {
                     continue;
                 }
-                let cov = self.geometry.coverage(u, v);
+                let cov = if u < solid_u && v < solid_v {
+                    1.0
+                } else {
+                    self.geometry.coverage(u, v)
+                };
                 if cov > 0.0 {
-                    let i = r as usize * explained.width + c as usize;
-                    let e = &mut explained.data[i];
-                    *e = (*e + cov).min(1.0);
-                    free.data[i] = dark.data[i] * (1.0 - *e);
-                    free_bordered.set(c as usize, r as usize, free.data[i]);
+                    at(c as usize, r as usize, cov);
                 }
             }
         }

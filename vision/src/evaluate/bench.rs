@@ -80,13 +80,8 @@ pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectErro
     let start = Instant::now();
     let photo = render(&packed.grains, &frame, &style, case.seed).to_image(16);
     let render_seconds = start.elapsed().as_secs_f64();
-    // The detector's parameters have more (defaulted) fields than the two set here.
-    #[allow(clippy::needless_update)]
-    let params = DetectParams {
-        shape: case.shape,
-        scale: frame.scale,
-        ..Default::default()
-    };
+    // The defaults of this shape (not `Default`'s, which are the nuts').
+    let params = DetectParams::new(case.shape, frame.scale);
     let start = Instant::now();
     let detections = detect(&photo, &params)?;
     let detect_seconds = start.elapsed().as_secs_f64();
