@@ -193,6 +193,20 @@ pub fn find_grains(
     let unchanged_beyond = 2.0 * f64::from(fine_model.reach()) + 6.0;
     // The accepted grains' centres, for the duplicate test.
     let mut found_near = Nearby::new(reach);
+    // What every fit reads: the darkness at both levels and the models; its free maps are
+    // the unpainted darkness, each use putting in the free maps of the moment (the coarse
+    // one each round refreshes).
+    let reads = Levels {
+        fine: &dark_bordered,
+        fine_free: &dark_bordered,
+        coarse: &coarse_bordered,
+        coarse_free: &coarse_bordered,
+        fine_model: &fine_model,
+        coarse_model: &coarse_model,
+        factor: f,
+        period: params.shape.symmetry_period(),
+        finalist_margin,
+    };
     // The poses last fitted to the hole seeds put off to this round.
     let mut put_off: Vec<Pose> = Vec::new();
     for round in 0..params.max_rounds.max(1) {
@@ -225,15 +239,8 @@ pub fn find_grains(
         }
         // What the round's fits read but the free darkness, which each grain accepted paints.
         let unpainted = Levels {
-            fine: &dark_bordered,
-            fine_free: &dark_bordered,
-            coarse: &coarse_bordered,
             coarse_free: &coarse_free,
-            fine_model: &fine_model,
-            coarse_model: &coarse_model,
-            factor: f,
-            period: params.shape.symmetry_period(),
-            finalist_margin,
+            ..reads
         };
         let levels = Levels {
             fine_free: &free_bordered,
@@ -369,15 +376,8 @@ pub fn find_grains(
     // What the repairs and the settling read: each refit reads the free darkness of the
     // moment instead of `fine_free`.
     let after = Levels {
-        fine: &dark_bordered,
-        fine_free: &dark_bordered,
-        coarse: &coarse_bordered,
         coarse_free: &coarse_free,
-        fine_model: &fine_model,
-        coarse_model: &coarse_model,
-        factor: f,
-        period: params.shape.symmetry_period(),
-        finalist_margin,
+        ..reads
     };
     if let GrainShape::Rod { .. } = params.shape {
         let cx = chains::Context {
