@@ -26,6 +26,17 @@ pub struct Found {
     pub confidence: f64,
 }
 
+impl Found {
+    /// The grain at `pose`, its outline's corners from `model`.
+    pub fn at(pose: Pose, confidence: f64, model: &Model) -> Found {
+        Found {
+            pose,
+            corners: model.corners(pose),
+            confidence,
+        }
+    }
+}
+
 /// The maps the acceptance keeps: explained opacity and the darkness it leaves free.
 #[derive(Clone)]
 pub struct Maps {
@@ -343,11 +354,7 @@ pub fn find_grains(
             this_round.insert(centre);
             found_near.insert(centre);
             accepted_this_round += 1;
-            found.push(Found {
-                pose: ft.pose,
-                corners: fine_model.corners(ft.pose),
-                confidence: now.agreement as f64,
-            });
+            found.push(Found::at(ft.pose, now.agreement as f64, &fine_model));
         }
         if accepted_this_round == 0 {
             break;

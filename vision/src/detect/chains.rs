@@ -107,11 +107,7 @@ impl Context<'_> {
 
     /// The grain a kept fit becomes.
     fn found(&self, ft: &fit::Fitted) -> Found {
-        Found {
-            pose: ft.pose,
-            corners: self.model.corners(ft.pose),
-            confidence: f64::from(ft.score.agreement),
-        }
+        Found::at(ft.pose, f64::from(ft.score.agreement), self.model)
     }
 }
 

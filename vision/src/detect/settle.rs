@@ -285,14 +285,7 @@ fn settle_tile(
                 y: again.pose.y + origin.1,
                 phi: again.pose.phi,
             };
-            moved.push((
-                g,
-                Found {
-                    pose,
-                    corners: model.corners(pose),
-                    confidence: f64::from(s.agreement),
-                },
-            ));
+            moved.push((g, Found::at(pose, f64::from(s.agreement), model)));
             again.pose
         } else {
             old
@@ -366,11 +359,7 @@ mod tests {
                     y: p.y + 1.5 * off(),
                     phi: p.phi + 2f64.to_radians() * off(),
                 };
-                Found {
-                    pose,
-                    corners: model.corners(pose),
-                    confidence: 0.9,
-                }
+                Found::at(pose, 0.9, &model)
             })
             .collect();
         let mut maps = Maps {

@@ -70,11 +70,7 @@ impl Scene {
     }
 
     fn found(&self, pose: Pose, confidence: f64) -> Found {
-        Found {
-            pose,
-            corners: self.model.corners(pose),
-            confidence,
-        }
+        Found::at(pose, confidence, &self.model)
     }
 }
 
