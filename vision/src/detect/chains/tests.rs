@@ -223,6 +223,32 @@ fn assert_row_found(found: &[Found], truth: &[Pose]) {
     });
 }
 
+/// A rod the photograph's left edge cuts, fitted where it is, with a rod lying across its
+/// inner end that no fit has found yet: the dark beyond its end is that rod's side, not
+/// the stub of a row shifted off it, so the cut rod is not slid in over it (with a cut rod
+/// added in its place, as lab rod53 at 10 px/mm did on seeds 26 and 27).
+#[test]
+fn a_cut_rod_is_not_slid_in_over_a_rod_across_its_end() {
+    let cut = Pose {
+        x: 0.3 * LENGTH,
+        y: 90.0,
+        phi: 0.0,
+    };
+    let across = Pose {
+        x: 0.8 * LENGTH + 0.5 * WIDTH,
+        y: 90.0,
+        phi: std::f64::consts::FRAC_PI_2,
+    };
+    let scene = Scene::of(&[cut, across]);
+    let cx = scene.cx();
+    let mut found = vec![scene.found(cut, 0.9)];
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair(&mut found, &mut maps, &cx, 0..1);
+    assert_eq!(repaired, 0);
+    assert_eq!(found.len(), 1);
+    assert_eq!(found[0].pose, cut);
+}
+
 /// A row of three rods fitted shifted by nearly half a length out of the photograph's
 /// edge, its first rod reaching beyond it: the row is put back, and no rod is added in a
 /// room that lies outside the photograph (one there has nothing to fit and, before, failed
