@@ -23,20 +23,15 @@ fn stub_to_edge(
     width: f64,
     limit: f64,
 ) -> (f64, bool) {
-    let (s, c) = pose.phi.sin_cos();
-    let (ux, uy) = (c, -s);
-    // Across the axis: (sin phi, cos phi).
-    let (vx, vy) = (s, c);
+    let axis = pose.phi.sin_cos();
     let mut t = 0.0;
     while t < limit {
-        let a = sign * (half_length + t + 0.5);
         let mut sum = 0.0;
         for b in [-0.25 * width, 0.0, 0.25 * width] {
-            let (x, y) = (pose.x + a * ux + b * vx, pose.y + a * uy + b * vy);
-            if x < 0.0 || y < 0.0 || x >= free.width as f64 || y >= free.height as f64 {
+            let Some(f) = free_beyond(free, pose, axis, sign * (half_length + t + 0.5), b) else {
                 return (t, true);
-            }
-            sum += free.at(x as usize, y as usize);
+            };
+            sum += f;
         }
         if sum < 1.5 {
             return (t, false);
@@ -44,6 +39,15 @@ fn stub_to_edge(
         t += 1.0;
     }
     (t, false)
+}
+
+/// The free darkness at `a` along rod pose `pose`'s axis and `b` across it (pixels), or
+/// None outside the photograph; `(s, c)` is the sine and cosine of its angle.
+fn free_beyond(free: &Plane, pose: Pose, (s, c): (f64, f64), a: f64, b: f64) -> Option<f32> {
+    // Along the axis: (cos phi, -sin phi); across it: (sin phi, cos phi).
+    let (x, y) = (pose.x + a * c + b * s, pose.y - a * s + b * c);
+    let inside = x >= 0.0 && y >= 0.0 && x < free.width as f64 && y < free.height as f64;
+    inside.then(|| free.at(x as usize, y as usize))
 }
 
 /// Least room (parts of a length) for the rod a row shifted along itself leaves at the
@@ -131,11 +135,10 @@ pub fn repair(
             let room = s1 + s2;
             // At the edge, the rod added there may be a rod the edge cuts that was fitted
             // right, and the stub the unexplained side of a rod lying across its end.
-            if at_edge && wider_than_rod(&local.maps.free, found[g].pose, sign, half, s1, width) {
-                continue;
-            }
             let fits = if at_edge {
-                room > EDGE_ROOM * length && room < 1.3 * length
+                room > EDGE_ROOM * length
+                    && room < 1.3 * length
+                    && !wider_than_rod(&local.maps.free, found[g].pose, sign, half, s1, width)
             } else {
                 s2 >= LEAST_STUB * length && (room - length).abs() <= 0.3 * length
             };
@@ -228,21 +231,14 @@ pub fn repair(
 /// what lies beside it. Lab rod53 at 10 px/mm: rods the bottom edge cuts were slid in from
 /// it over the unfitted rod across their ends, a rod added in their place (seeds 26, 27).
 fn wider_than_rod(free: &Plane, pose: Pose, sign: f64, half: f64, stub: f64, width: f64) -> bool {
-    let (s, c) = pose.phi.sin_cos();
-    let (ux, uy) = (c, -s);
-    let (vx, vy) = (s, c);
+    let axis = pose.phi.sin_cos();
     let (mut dark, mut all) = (0, 0);
     let mut t = 0.0;
     while t < stub {
-        let a = sign * (half + t + 0.5);
         for b in [-0.75 * width, 0.75 * width] {
-            let (x, y) = (pose.x + a * ux + b * vx, pose.y + a * uy + b * vy);
-            if x < 0.0 || y < 0.0 || x >= free.width as f64 || y >= free.height as f64 {
-                continue;
-            }
-            all += 1;
-            if free.at(x as usize, y as usize) > 0.5 {
-                dark += 1;
+            if let Some(f) = free_beyond(free, pose, axis, sign * (half + t + 0.5), b) {
+                all += 1;
+                dark += usize::from(f > 0.5);
             }
         }
         t += 1.0;
