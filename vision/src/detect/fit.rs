@@ -44,12 +44,20 @@ const COARSE_ANGLE_STEP: f64 = 6.0 * std::f64::consts::PI / 180.0;
 /// highlight well, so its best few distinct poses compete again at full resolution.
 const FINALISTS: usize = 3;
 
+/// Least turn from each of the three finalists of a fit over every angle for the best pose so
+/// turned to be refined as a fourth: the three best distinct coarse poses can all be variants
+/// of one wrong pose (a rod fitted diagonally across two lying face to face), and the right
+/// pose, turned well away, then never competes refined.
+const FAR_FINALIST_ANGLE: f64 = 45.0 * std::f64::consts::PI / 180.0;
+
 /// Half-width of the angle search around a seed's known axis (radians): the highlight's
 /// direction is good to a few degrees.
 const AXIS_ANGLE_RANGE: f64 = 9.0 * std::f64::consts::PI / 180.0;
 
 /// `axis`: the grain's angle when the seed knows it (a rod's highlight), searched only within
-/// [`AXIS_ANGLE_RANGE`] of it; otherwise every angle of the symmetry period is tried.
+/// [`AXIS_ANGLE_RANGE`] of it; otherwise every angle of the symmetry period is tried, and
+/// where the period leaves room (rods) the best pose turned [`FAR_FINALIST_ANGLE`] away from
+/// the finalists is refined too.
 pub fn fit(
     levels: &Levels,
     seed: (f64, f64),
@@ -58,6 +66,9 @@ pub fn fit(
     axis: Option<f64>,
 ) -> Fitted {
     let f = levels.factor;
+    // Over every angle, a rod's best poses turned away from the three finalists: a pose can
+    // lie that far from them only where the period leaves room.
+    let far_finalist = axis.is_none() && levels.period > 2.0 * FAR_FINALIST_ANGLE;
     let angles: Vec<f64> = match axis {
         Some(phi) => {
             let step = 0.5 * COARSE_ANGLE_STEP;
@@ -77,24 +88,32 @@ pub fn fit(
         let dphi = dphi.min(levels.period - dphi);
         dphi <= angle && (p.x - q.x).hypot(p.y - q.y) <= distance
     };
+    // Coarse poses scored in full, in the order tried, and those given up on (kept only
+    // when a far finalist may be sought among them).
     let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
+    let mut given_up: Vec<(usize, Pose)> = Vec::new();
     let mut witnesses = Witnesses::default();
+    let mut index = 0;
     for &phi in &angles {
         let (s, c) = phi.sin_cos();
         for &(a, b) in offsets {
             let x = seed.0 + a * c + b * s;
             let y = seed.1 - a * s + b * c;
-            let pose = Pose {
-                x: x / f,
-                y: y / f,
-                phi,
-            };
+            let at = index;
+            index += 1;
             let Some(sc) = levels.coarse_model.score_unless_below(
-                pose,
+                Pose {
+                    x: x / f,
+                    y: y / f,
+                    phi,
+                },
                 levels.coarse,
                 levels.coarse_free,
                 witnesses.threshold,
             ) else {
+                if far_finalist {
+                    given_up.push((at, Pose { x, y, phi }));
+                }
                 continue;
             };
             let pose = Pose { x, y, phi };
@@ -106,9 +125,15 @@ pub fn fit(
             });
         }
     }
-    tried.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS);
-    for (_, p) in tried {
+    // Best first; on ties the pose tried first (the sort is stable).
+    let order: Vec<usize> = {
+        let mut order: Vec<usize> = (0..tried.len()).collect();
+        order.sort_by(|&i, &j| tried[j].0.total_cmp(&tried[i].0));
+        order
+    };
+    let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS + 1);
+    for &i in &order {
+        let p = tried[i].1;
         let far = finalists
             .iter()
             .all(|q| !close(&p, q, 2.0 * COARSE_ANGLE_STEP, distinct));
@@ -117,6 +142,30 @@ pub fn fit(
             if finalists.len() == FINALISTS {
                 break;
             }
+        }
+    }
+    if far_finalist {
+        let turned_away = |p: &Pose| {
+            finalists
+                .iter()
+                .all(|q| !close(p, q, FAR_FINALIST_ANGLE, f64::INFINITY))
+        };
+        if let Some(p) = far_from(&tried, &order, &given_up, turned_away, |p, below| {
+            levels
+                .coarse_model
+                .score_unless_below(
+                    Pose {
+                        x: p.x / f,
+                        y: p.y / f,
+                        phi: p.phi,
+                    },
+                    levels.coarse,
+                    levels.coarse_free,
+                    below,
+                )
+                .map(|sc| sc.total)
+        }) {
+            finalists.push(p);
         }
     }
     let coarse_eval = |p: Pose| {
@@ -168,6 +217,47 @@ pub fn fit(
         }
     }
     best.expect("at least one pose is tried")
+}
+
+/// The best coarse pose `turned_away` from the finalists, as though every pose had been scored
+/// in full: among those `tried` (in the order tried; `order` best first), then among those
+/// `given_up` on (with their places in that order), each `rescore`d unless certainly below
+/// the best so far. Ties go to the pose tried first.
+fn far_from(
+    tried: &[(f32, Pose)],
+    order: &[usize],
+    given_up: &[(usize, Pose)],
+    turned_away: impl Fn(&Pose) -> bool,
+    rescore: impl Fn(Pose, f32) -> Option<f32>,
+) -> Option<Pose> {
+    // The place in the order tried of each pose scored in full.
+    let mut places = Vec::with_capacity(tried.len());
+    let mut next = given_up.iter().map(|&(at, _)| at).peekable();
+    let mut at = 0;
+    for _ in tried {
+        while next.peek() == Some(&at) {
+            next.next();
+            at += 1;
+        }
+        places.push(at);
+        at += 1;
+    }
+    let mut best: Option<(f32, usize, Pose)> = order
+        .iter()
+        .find(|&&i| turned_away(&tried[i].1))
+        .map(|&i| (tried[i].0, places[i], tried[i].1));
+    for &(at, p) in given_up {
+        if !turned_away(&p) {
+            continue;
+        }
+        let below = best.map_or(f32::NEG_INFINITY, |b| b.0);
+        if let Some(total) = rescore(p, below)
+            && best.is_none_or(|(t, first, _)| total > t || (total == t && at < first))
+        {
+            best = Some((total, at, p));
+        }
+    }
+    best.map(|(_, _, p)| p)
 }
 
 /// Farthest (pixels, along x or y) that a pose [`fit`] scores lies from the position its
@@ -429,6 +519,65 @@ impl Witnesses {
                     return;
                 }
             }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The far finalist found from the poses scored in full and those given up on is the one
+    /// a search scoring every pose in full finds: the best turned away, ties to the first.
+    #[test]
+    fn the_far_finalist_is_the_one_scoring_every_pose_would_give() {
+        let mut rng = ChaCha8Rng::seed_from_u64(7);
+        for case in 0..200 {
+            let n = rng.random_range(1..60);
+            // Totals on a coarse grid, so that ties occur.
+            let all: Vec<(f32, Pose)> = (0..n)
+                .map(|k| {
+                    let total = rng.random_range(0..20) as f32;
+                    let phi = rng.random_range(0.0..std::f64::consts::PI);
+                    (
+                        total,
+                        Pose {
+                            x: k as f64,
+                            y: 0.0,
+                            phi,
+                        },
+                    )
+                })
+                .collect();
+            let turned_away = |p: &Pose| p.phi > 1.0;
+            let expected = {
+                let mut order: Vec<usize> = (0..n).collect();
+                order.sort_by(|&i, &j| all[j].0.total_cmp(&all[i].0));
+                order
+                    .into_iter()
+                    .find(|&i| turned_away(&all[i].1))
+                    .map(|i| all[i].1)
+            };
+            // Given up on: poses below a threshold, as the witnesses would leave them.
+            let threshold = rng.random_range(0..25) as f32;
+            let (mut tried, mut given_up) = (Vec::new(), Vec::new());
+            for (k, &(total, p)) in all.iter().enumerate() {
+                if total < threshold {
+                    given_up.push((k, p));
+                } else {
+                    tried.push((total, p));
+                }
+            }
+            let mut order: Vec<usize> = (0..tried.len()).collect();
+            order.sort_by(|&i, &j| tried[j].0.total_cmp(&tried[i].0));
+            let rescore = |p: Pose, below: f32| {
+                let total = all[p.x as usize].0;
+                (total >= below).then_some(total)
+            };
+            let found = far_from(&tried, &order, &given_up, turned_away, rescore);
+            assert_eq!(found, expected, "case {case}");
         }
     }
 }
