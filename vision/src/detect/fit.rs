@@ -93,30 +93,34 @@ pub fn fit(
     let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
     let mut given_up: Vec<(usize, Pose)> = Vec::new();
     let mut witnesses = Witnesses::default();
+    let on_coarse = |p: Pose| Pose {
+        x: p.x / f,
+        y: p.y / f,
+        phi: p.phi,
+    };
+    let coarse_unless_below = |p: Pose, below: f32| {
+        levels.coarse_model.score_unless_below(
+            on_coarse(p),
+            levels.coarse,
+            levels.coarse_free,
+            below,
+        )
+    };
     let mut index = 0;
     for &phi in &angles {
         let (s, c) = phi.sin_cos();
         for &(a, b) in offsets {
             let x = seed.0 + a * c + b * s;
             let y = seed.1 - a * s + b * c;
+            let pose = Pose { x, y, phi };
             let at = index;
             index += 1;
-            let Some(sc) = levels.coarse_model.score_unless_below(
-                Pose {
-                    x: x / f,
-                    y: y / f,
-                    phi,
-                },
-                levels.coarse,
-                levels.coarse_free,
-                witnesses.threshold,
-            ) else {
+            let Some(sc) = coarse_unless_below(pose, witnesses.threshold) else {
                 if far_finalist {
-                    given_up.push((at, Pose { x, y, phi }));
+                    given_up.push((at, pose));
                 }
                 continue;
             };
-            let pose = Pose { x, y, phi };
             tried.push((sc.total, pose));
             // Twice the distinct-finalist distances, with a hair for rounding: poses that
             // far apart cannot both be near one finalist.
@@ -151,32 +155,15 @@ pub fn fit(
                 .all(|q| !close(p, q, FAR_FINALIST_ANGLE, f64::INFINITY))
         };
         if let Some(p) = far_from(&tried, &order, &given_up, turned_away, |p, below| {
-            levels
-                .coarse_model
-                .score_unless_below(
-                    Pose {
-                        x: p.x / f,
-                        y: p.y / f,
-                        phi: p.phi,
-                    },
-                    levels.coarse,
-                    levels.coarse_free,
-                    below,
-                )
-                .map(|sc| sc.total)
+            coarse_unless_below(p, below).map(|sc| sc.total)
         }) {
             finalists.push(p);
         }
     }
     let coarse_eval = |p: Pose| {
-        let scaled = Pose {
-            x: p.x / f,
-            y: p.y / f,
-            phi: p.phi,
-        };
         levels
             .coarse_model
-            .score(scaled, levels.coarse, levels.coarse_free)
+            .score(on_coarse(p), levels.coarse, levels.coarse_free)
             .total as f64
     };
     let step = position_step.max(f);
