@@ -88,9 +88,9 @@ pub fn fit(
         let dphi = dphi.min(levels.period - dphi);
         dphi <= angle && (p.x - q.x).hypot(p.y - q.y) <= distance
     };
-    // Coarse poses scored in full, in the order tried, and those given up on (kept only
-    // when a far finalist may be sought among them).
-    let mut tried: Vec<(f32, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
+    // Coarse poses scored in full, and those given up on (kept only when a far finalist may
+    // be sought among them), each with its place in the order tried.
+    let mut tried: Vec<(f32, usize, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
     let mut given_up: Vec<(usize, Pose)> = Vec::new();
     let mut witnesses = Witnesses::default();
     let on_coarse = |p: Pose| Pose {
@@ -121,7 +121,7 @@ pub fn fit(
                 }
                 continue;
             };
-            tried.push((sc.total, pose));
+            tried.push((sc.total, at, pose));
             // Twice the distinct-finalist distances, with a hair for rounding: poses that
             // far apart cannot both be near one finalist.
             witnesses.offer(sc.total, pose, |p, q| {
@@ -130,14 +130,9 @@ pub fn fit(
         }
     }
     // Best first; on ties the pose tried first (the sort is stable).
-    let order: Vec<usize> = {
-        let mut order: Vec<usize> = (0..tried.len()).collect();
-        order.sort_by(|&i, &j| tried[j].0.total_cmp(&tried[i].0));
-        order
-    };
+    tried.sort_by(|a, b| b.0.total_cmp(&a.0));
     let mut finalists: Vec<Pose> = Vec::with_capacity(FINALISTS + 1);
-    for &i in &order {
-        let p = tried[i].1;
+    for &(_, _, p) in &tried {
         let far = finalists
             .iter()
             .all(|q| !close(&p, q, 2.0 * COARSE_ANGLE_STEP, distinct));
@@ -154,7 +149,7 @@ pub fn fit(
                 .iter()
                 .all(|q| !close(p, q, FAR_FINALIST_ANGLE, f64::INFINITY))
         };
-        if let Some(p) = far_from(&tried, &order, &given_up, turned_away, |p, below| {
+        if let Some(p) = far_from(&tried, &given_up, turned_away, |p, below| {
             coarse_unless_below(p, below).map(|sc| sc.total)
         }) {
             finalists.push(p);
@@ -207,32 +202,16 @@ pub fn fit(
 }
 
 /// The best coarse pose `turned_away` from the finalists, as though every pose had been scored
-/// in full: among those `tried` (in the order tried; `order` best first), then among those
-/// `given_up` on (with their places in that order), each `rescore`d unless certainly below
-/// the best so far. Ties go to the pose tried first.
+/// in full: among those `tried` (best first, each with its place in the order tried), then
+/// among those `given_up` on, each `rescore`d unless certainly below the best so far. Ties go
+/// to the pose tried first.
 fn far_from(
-    tried: &[(f32, Pose)],
-    order: &[usize],
+    tried: &[(f32, usize, Pose)],
     given_up: &[(usize, Pose)],
     turned_away: impl Fn(&Pose) -> bool,
     rescore: impl Fn(Pose, f32) -> Option<f32>,
 ) -> Option<Pose> {
-    // The place in the order tried of each pose scored in full.
-    let mut places = Vec::with_capacity(tried.len());
-    let mut next = given_up.iter().map(|&(at, _)| at).peekable();
-    let mut at = 0;
-    for _ in tried {
-        while next.peek() == Some(&at) {
-            next.next();
-            at += 1;
-        }
-        places.push(at);
-        at += 1;
-    }
-    let mut best: Option<(f32, usize, Pose)> = order
-        .iter()
-        .find(|&&i| turned_away(&tried[i].1))
-        .map(|&i| (tried[i].0, places[i], tried[i].1));
+    let mut best = tried.iter().find(|t| turned_away(&t.2)).copied();
     for &(at, p) in given_up {
         if !turned_away(&p) {
             continue;
@@ -554,16 +533,15 @@ mod tests {
                 if total < threshold {
                     given_up.push((k, p));
                 } else {
-                    tried.push((total, p));
+                    tried.push((total, k, p));
                 }
             }
-            let mut order: Vec<usize> = (0..tried.len()).collect();
-            order.sort_by(|&i, &j| tried[j].0.total_cmp(&tried[i].0));
+            tried.sort_by(|a, b| b.0.total_cmp(&a.0));
             let rescore = |p: Pose, below: f32| {
                 let total = all[p.x as usize].0;
                 (total >= below).then_some(total)
             };
-            let found = far_from(&tried, &order, &given_up, turned_away, rescore);
+            let found = far_from(&tried, &given_up, turned_away, rescore);
             assert_eq!(found, expected, "case {case}");
         }
     }
