@@ -189,5 +189,6 @@ pub(super) fn with_nearest(
     std::iter::once(g).chain(near).collect()
 }
 
-/// Least agreement of a rod that [`repair_crowded`](super::repair_crowded) adds.
+/// Least agreement of a rod a repair adds or fits in place of others (the crowded, outside
+/// and turned repairs, and rods refitted together).
 pub(super) const ADDED_AGREEMENT: f32 = 0.8;
