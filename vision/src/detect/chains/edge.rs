@@ -6,9 +6,9 @@
 //! across-highlights repair can make one too, turning a rod fitted shifted onto the stubs.
 //! Such a rod is fitted again along the edge, moved in from it, and up to two rods the edge
 //! cuts are fitted in what that leaves between it and the edge; they are kept when they
-//! explain the photograph better. When they do not, the cut rods standing beside it may hold
-//! part of its place (one fitted shifted into it): the trial is made again with them
-//! refitted too.
+//! explain the photograph better. The cut rods standing beside it may hold part of its place
+//! (one fitted shifted into it): the trial is made again with them refitted too, and the
+//! one that gains more is kept.
 
 use super::{
     Context, Edge, Found, Local, SetTrials, Window, fit, fit_reads, in_order, nearest_edge, turn,
@@ -69,6 +69,14 @@ const SAME_DEG: f64 = 3.0;
 fn reach(p: Pose, edge_phi: f64, cx: &Context) -> f64 {
     let t = turn(p.phi, edge_phi);
     0.5 * cx.length * t.sin() + 0.5 * cx.width * t.cos()
+}
+
+/// A trial of [`AlongEdge::with`] kept: the rods taken off, their fits, and what the fits
+/// score more than the old poses and the trial with a rod fitted afresh.
+struct Refit {
+    set: Vec<usize>,
+    fits: Vec<fit::Fitted>,
+    gain: f64,
 }
 
 /// The settings of [`repair_along_edge`]'s trials.
@@ -178,9 +186,9 @@ impl SetTrials for AlongEdge<'_> {
         Window::around(p.x, p.y, self.reads, self.reads, &local.maps.free)
     }
 
-    /// The trial: rod `g` taken off and fitted again along its edge; when that keeps
-    /// nothing, again with the rods beside it that the edge cuts (`near`) taken off too
-    /// and refitted after it ([`AlongEdge::with`]).
+    /// The trial: rod `g` taken off and fitted again along its edge, and again with the rods
+    /// beside it that the edge cuts (`near`) taken off too and refitted after it
+    /// ([`AlongEdge::with`]); the one that gains more is kept.
     fn run(
         &self,
         local: &mut Local,
@@ -189,14 +197,20 @@ impl SetTrials for AlongEdge<'_> {
         &g: &usize,
         cx: &Context,
     ) -> Option<(Vec<usize>, Vec<fit::Fitted>)> {
-        self.with(local, found, &[g], cx).or_else(|| {
-            // A cut rod beside it may have been fitted shifted into the place of the rod
-            // along the edge (lab rod53 at 6 px/mm, seed 3: by 0.9 mm), which the refit
-            // then cannot take whole.
-            (near.len() > 1)
-                .then(|| self.with(local, found, near, cx))
-                .flatten()
-        })
+        let alone = self.with(local, found, &[g], cx);
+        // A cut rod beside it may have been fitted shifted into the place of the rod along
+        // the edge (lab rod53 at 6 px/mm, seed 3: by 0.9 mm), which the refit then cannot
+        // take whole. Tried only when the rod alone kept nothing, it was left shifted once
+        // the rod turned across the edge paid for its whole ring (`Model::ring_seen`) and
+        // the rod alone gained enough to be kept.
+        let beside = (near.len() > 1)
+            .then(|| self.with(local, found, near, cx))
+            .flatten();
+        let kept = match (alone, beside) {
+            (Some(a), Some(b)) => Some(if b.gain > a.gain { b } else { a }),
+            (a, b) => a.or(b),
+        };
+        kept.map(|t| (t.set, t.fits))
     }
 }
 
@@ -209,14 +223,15 @@ impl AlongEdge<'_> {
     /// than the old poses did on the maps without them and than the same trial with a rod fitted
     /// afresh in the turned rod's place over every angle, unless that rod is the one along
     /// the edge ([`same_rod`]: lab rod53 at 10 px/mm, seed 9, a refit that gained 0.105
-    /// L x W was refused against itself). The maps are left as they were.
+    /// L x W was refused against itself). Returned with that gain. The maps are left as they
+    /// were.
     fn with(
         &self,
         local: &mut Local,
         found: &[Found],
         set: &[usize],
         cx: &Context,
-    ) -> Option<(Vec<usize>, Vec<fit::Fitted>)> {
+    ) -> Option<Refit> {
         let p = found[set[0]].pose;
         let e = nearest_edge(p, &local.maps.free);
         let window = Window::around(p.x, p.y, self.reach, self.reach, &local.maps.free);
@@ -280,7 +295,12 @@ impl AlongEdge<'_> {
         };
         local.restore(window, &saved);
         let bar = afresh_total.map_or(old_total, |t| t.max(old_total));
-        (new_total - bar > least).then(|| (set.to_vec(), fits))
+        let gain = new_total - bar;
+        (gain > least).then(|| Refit {
+            set: set.to_vec(),
+            fits,
+            gain,
+        })
     }
 
     /// On the maps with the rods of `set` taken off (`off`, saved over `window`): `first`
