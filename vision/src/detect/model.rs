@@ -857,12 +857,9 @@ mod tests {
         ));
         assert!(nut.same_place(b, at(110.0, 104.0, 35.0)));
     }
-    /// The highlight is a contrast wherever the frame's edge cuts the rod: on a darkness the
-    /// same everywhere it adds no more than on a rod wholly inside, even with the axis beyond
-    /// the edge and a flank inside (where, summed as seen, the flank alone paid a third of a
-    /// rod's score).
-    #[test]
-    fn a_rod_cut_by_the_edge_gains_nothing_from_its_highlight_on_plain_darkness() {
+    /// A rod model at 6 px/mm and a darkness of 1 everywhere, 80 x 60 px: a dense deposit
+    /// that goes on beyond the frame.
+    fn rod_on_plain_darkness() -> (Model, Bordered) {
         let model = Model::new(
             GrainShape::Rod {
                 length: 5e-3,
@@ -871,10 +868,33 @@ mod tests {
             6e3,
         )
         .with_highlight_floor(0.6);
+        (model, Bordered::new(&Plane::new(80, 60, 1.0)))
+    }
+
+    /// Forty poses of a rod lying along the top edge, from `y` (pixels) outward a quarter
+    /// pixel at a time and turned by up to 0.04: those the edge cuts, with their scores.
+    fn cut_along_top_edge(model: &Model, dark: &Bordered, y: f64) -> Vec<(Pose, Score)> {
+        (0..40)
+            .map(|k| Pose {
+                x: 40.0,
+                y: y - 0.25 * k as f64,
+                phi: (k % 5) as f64 * 0.01,
+            })
+            .map(|pose| (pose, model.score(pose, dark, dark)))
+            .filter(|(_, score)| score.visible < 1.0)
+            .collect()
+    }
+
+    /// The highlight is a contrast wherever the frame's edge cuts the rod: on a darkness the
+    /// same everywhere it adds no more than on a rod wholly inside, even with the axis beyond
+    /// the edge and a flank inside (where, summed as seen, the flank alone paid a third of a
+    /// rod's score).
+    #[test]
+    fn a_rod_cut_by_the_edge_gains_nothing_from_its_highlight_on_plain_darkness() {
+        let (model, dark) = rod_on_plain_darkness();
         let mut plain = model.clone();
         plain.highlight = Taps::default();
         plain.flank = Taps::default();
-        let dark = Bordered::new(&Plane::new(80, 60, 1.0));
         let highlight_part = |pose: Pose| {
             model.score(pose, &dark, &dark).total - plain.score(pose, &dark, &dark).total
         };
@@ -887,19 +907,10 @@ mod tests {
         let flank = model.flank.weight().abs();
         // A tenth of the flank's weight: the imbalance of the whole rod's taps is smaller.
         assert!(whole < 0.1 * HIGHLIGHT_WEIGHT * flank, "{whole} whole");
-        let mut cut = 0;
-        for k in 0..40 {
-            // Across the top edge, from a third of the width out to most of it.
-            let pose = Pose {
-                x: 40.0,
-                y: 6.0 - 0.25 * k as f64,
-                phi: (k % 5) as f64 * 0.01,
-            };
-            let score = model.score(pose, &dark, &dark);
-            if score.visible >= 1.0 {
-                continue;
-            }
-            cut += 1;
+        // Across the top edge, from a third of the width out to most of it.
+        let cut = cut_along_top_edge(&model, &dark, 6.0);
+        assert!(cut.len() > 30, "{} poses cut", cut.len());
+        for (pose, score) in cut {
             let part = highlight_part(pose);
             assert!(
                 part.abs() <= whole + 1e-4 * HIGHLIGHT_WEIGHT * flank,
@@ -908,7 +919,6 @@ mod tests {
                 score.visible
             );
         }
-        assert!(cut > 30, "{cut} poses cut");
     }
 
     /// On a darkness the same everywhere (a dense deposit, which goes on beyond the frame),
@@ -918,17 +928,9 @@ mod tests {
     /// edge read nothing, and a rod a pixel over the edge outscored the whole one.
     #[test]
     fn a_rod_pushed_over_the_edge_gains_nothing_from_its_ring_on_plain_darkness() {
-        let model = Model::new(
-            GrainShape::Rod {
-                length: 5e-3,
-                width: 3e-3,
-            },
-            6e3,
-        )
-        .with_highlight_floor(0.6);
+        let (model, dark) = rod_on_plain_darkness();
         let mut ringless = model.clone();
         ringless.ring = Taps::default();
-        let dark = Bordered::new(&Plane::new(80, 60, 1.0));
         let ring_part = |pose: Pose| {
             model.score(pose, &dark, &dark).total - ringless.score(pose, &dark, &dark).total
         };
@@ -938,19 +940,10 @@ mod tests {
             phi: 0.0,
         };
         let (whole, whole_ring) = (model.score(inside, &dark, &dark), ring_part(inside));
-        let mut cut = 0;
-        for k in 0..40 {
-            // Along the top edge, from a pixel in from it to half the width beyond.
-            let pose = Pose {
-                x: 40.0,
-                y: 10.0 - 0.25 * k as f64,
-                phi: (k % 5) as f64 * 0.01,
-            };
-            let score = model.score(pose, &dark, &dark);
-            if score.visible >= 1.0 {
-                continue;
-            }
-            cut += 1;
+        // Along the top edge, from a pixel in from it to half the width beyond.
+        let cut = cut_along_top_edge(&model, &dark, 10.0);
+        assert!(cut.len() > 30, "{} poses cut", cut.len());
+        for (pose, score) in cut {
             let ring = ring_part(pose);
             assert!(
                 (ring - whole_ring).abs() <= 1e-3 * whole_ring.abs(),
@@ -967,7 +960,6 @@ mod tests {
                 whole.total
             );
         }
-        assert!(cut > 30, "{cut} poses cut");
     }
 
     /// A pose given up on scores below the threshold; a pose kept scores what `score` gives,
