@@ -11,7 +11,7 @@
 
 use super::{
     Context, Found, Local, Maps, SetTrials, Spot, Window, fit, fit_reads, in_order, nearest,
-    refit_together, turn,
+    nearest_edge, refit_together, turn,
 };
 use crate::detect::model::Pose;
 use crate::detect::ridges::AxisSeed;
@@ -26,8 +26,27 @@ const TURNED_DEG: f64 = 45.0;
 /// wrong with it.
 const MIDDLE: (f64, f64) = (0.8, 1.0);
 
-/// Most rods near a turned rod that its trials take off with it, one at a time.
+/// Most rods near a turned rod that its trials take off with it, one at a time (and, near
+/// the frame's edge, two at a time).
 const NEAR_ROD: usize = 3;
+
+/// Within this many lengths of the frame's edge, a turned rod's trials also take it off with
+/// two of its nearest rods. Two short rods face to face beside a rod standing by the edge are
+/// read as the same block turned by a right angle: a rod standing across the pair and two
+/// lying face to face where the standing rod is. With one of those two off, the rod fitted at
+/// a highlight of the pair lies across the other; with both off, the block comes back (unit
+/// test `a_block_read_turned_by_the_edge_is_refitted_as_it_is`; lab rod53 at 10 px/mm, seed
+/// 19 disordered, the top right corner). The 13 rods traced of the 14 turned at 10 px/mm on
+/// seeds 1-21 and 50-59 all lay within 7 mm (1.4 rod53 lengths) of the edge. Pairs taken off
+/// everywhere cost lab rod53 at 10 px/mm 1.3 s more a photograph (seed 19); by the edge,
+/// 0.5-4.5 % more of the whole detection's tap sums.
+const PAIRS_NEAR_EDGE: f64 = 1.5;
+
+/// Only where two rods face to face make a nearly square block (its sides within this
+/// ratio: rod53 6 x 4.9 mm, 1.22) can it be read turned by a right angle. rod3's pair (8.9 x
+/// 6 mm, 1.48) gained nothing from the trials with pairs (lab, seeds 1-21 and 22-29, 40-49,
+/// 80-89 at 6 px/mm: the same rods turned) and cost 5-6 % more tap sums.
+const SQUARE_PAIR: f64 = 1.35;
 
 /// How far along a highlight from where it was found (parts of a length) the rods lying on
 /// its line are taken off together as a row: the rods end to end beside one fitted across
@@ -294,12 +313,12 @@ impl<'a> SetTrials for Across<'a> {
     }
 
     /// The trials about a rod with highlights turned from it inside: the rod taken off alone,
-    /// then with each rod near it, rods fitted at the highlights first, then the rods
-    /// afresh at their centres and rods added where their place is left unexplained; the
-    /// first that keeps as many rods as it took off and scores more. Then the rods on the
-    /// line of a highlight taken off with it, refitted as a [`Row`]: kept instead when it
-    /// gains more. Returned: the rods taken off and their fits. The maps are left as they
-    /// were.
+    /// then with each rod near it, then (short rods by the frame's edge) with each two of
+    /// them; rods fitted at the highlights first, then the rods afresh at their centres and
+    /// rods added where their place is left unexplained; the first that keeps as many rods
+    /// as it took off and scores more. Then the rods on the line of a highlight taken off
+    /// with it, refitted as a [`Row`]: kept instead when it gains more. Returned: the rods
+    /// taken off and their fits. The maps are left as they were.
     fn run(
         &self,
         local: &mut Local,
@@ -310,7 +329,16 @@ impl<'a> SetTrials for Across<'a> {
     ) -> Option<(Vec<usize>, Vec<fit::Fitted>)> {
         let g = near[0];
         let search = (self.offsets, self.step, self.reach);
-        let sets = std::iter::once(vec![g]).chain(near[1..=nearest].iter().map(|&k| vec![g, k]));
+        let close = &near[1..=nearest];
+        let pair_block = (2.0 * cx.width).max(cx.length) / (2.0 * cx.width).min(cx.length);
+        let by_edge = pair_block < SQUARE_PAIR
+            && nearest_edge(found[g].pose, &local.maps.free).depth < PAIRS_NEAR_EDGE * cx.length;
+        let pairs = (0..close.len())
+            .filter(|_| by_edge)
+            .flat_map(|i| (i + 1..close.len()).map(move |j| vec![g, close[i], close[j]]));
+        let sets = std::iter::once(vec![g])
+            .chain(close.iter().map(|&k| vec![g, k]))
+            .chain(pairs);
         let first = sets.into_iter().find_map(|set| {
             refit_together(local, found, &set, cx, search, None, spots).map(|t| (set, t))
         });
@@ -333,12 +361,14 @@ impl<'a> SetTrials for Across<'a> {
 }
 
 /// Rods fitted across short rods lying face to face, found by the highlights inside them
-/// turned from them ([`AxisSeed`]s): each such rod is taken off, alone or with a rod near it,
-/// rods are fitted at the highlights first, then the rods taken off afresh, with rods added
-/// where their place is left unexplained; kept when it keeps as many rods and scores more,
-/// or, gaining more, the rods end to end along a highlight refitted as a row with it. As in [`repair_doubtful`](super::repair_doubtful), the trials are worked out ahead in
-/// parallel and taken over in order where the rods near, their poses and what the trials
-/// read are unchanged since, so the outcome is the sequential one whatever the thread count.
+/// turned from them ([`AxisSeed`]s): each such rod is taken off, alone, with a rod near it
+/// or (by the frame's edge) with two, rods are fitted at the highlights first, then the rods
+/// taken off afresh, with rods added where their place is left unexplained; kept when it
+/// keeps as many rods and scores more, or, gaining more, the rods end to end along a
+/// highlight refitted as a row with it. As in [`repair_doubtful`](super::repair_doubtful),
+/// the trials are worked out ahead in parallel and taken over in order where the rods near,
+/// their poses and what the trials read are unchanged since, so the outcome is the
+/// sequential one whatever the thread count.
 /// Only the rods `tried` are looked at. Returns the number of rods repaired.
 #[allow(clippy::too_many_arguments)]
 pub fn repair_across_highlights(

@@ -1112,3 +1112,64 @@ fn rods_turned_across_a_block_are_refitted_and_a_true_rod_turned_alike_kept() {
         |found, maps, cx| repair_doubtful(found, maps, cx, &offsets, 4.5),
     );
 }
+
+/// Two short rods face to face beside a rod standing by the right edge, read as the same
+/// block turned by a right angle: a rod standing across the pair (the true pair's
+/// highlights inside it) and two rods lying face to face where the standing rod is. `x0` is
+/// the block's left side.
+fn mirrored_block(x0: f64, y0: f64) -> ([Pose; 3], [Pose; 3], [AxisSeed; 2]) {
+    let (half_l, half_w) = (0.5 * LENGTH, 0.5 * WIDTH);
+    let stand = std::f64::consts::FRAC_PI_2;
+    let lie = |x, y| Pose { x, y, phi: 0.0 };
+    let truth = [
+        lie(x0 + half_l, y0 + half_w),
+        lie(x0 + half_l, y0 + WIDTH + half_w),
+        Pose {
+            x: x0 + LENGTH + half_w,
+            y: y0 + WIDTH,
+            phi: stand,
+        },
+    ];
+    let wrong = [
+        Pose {
+            x: x0 + half_w,
+            y: y0 + WIDTH,
+            phi: stand,
+        },
+        lie(x0 + WIDTH + half_l, y0 + half_w),
+        lie(x0 + WIDTH + half_l, y0 + WIDTH + half_w),
+    ];
+    let seeds = [truth[0], truth[1]].map(|t| AxisSeed {
+        x: t.x,
+        y: t.y,
+        phi: t.phi,
+        depth: 0.8,
+    });
+    (truth, wrong, seeds)
+}
+
+/// [`mirrored_block`] by the right edge is refitted as it is: the rod standing across the
+/// pair comes off with both rods fitted where the standing rod is, which each cover a part
+/// of the pair (with either alone off, the rod fitted at a highlight lies across the other).
+#[test]
+fn a_block_read_turned_by_the_edge_is_refitted_as_it_is() {
+    let (truth, wrong, seeds) = mirrored_block(115.0, 60.0);
+    let scene = Scene::of(&truth);
+    let cx = scene.cx();
+    let offsets = along_axis();
+    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair_across_highlights(
+        &mut found,
+        &mut maps,
+        &cx,
+        0..1,
+        &seeds,
+        &offsets,
+        &offsets,
+        4.5,
+    );
+    assert_eq!(repaired, 1);
+    assert_eq!(found.len(), 3);
+    assert_found(&found, &truth);
+}
