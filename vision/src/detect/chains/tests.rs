@@ -579,13 +579,17 @@ fn across(x: f64, y: f64) -> ([Pose; 2], Pose, [AxisSeed; 2]) {
         y,
         phi: phi + std::f64::consts::FRAC_PI_2,
     };
-    let seeds = truth.map(|t| AxisSeed {
-        x: t.x,
-        y: t.y,
-        phi: t.phi,
+    (truth, wrong, truth.map(highlight_along))
+}
+
+/// The highlight a rod at `p` shows: at its centre, along its axis.
+fn highlight_along(p: Pose) -> AxisSeed {
+    AxisSeed {
+        x: p.x,
+        y: p.y,
+        phi: p.phi,
         depth: 0.8,
-    });
-    (truth, wrong, seeds)
+    }
 }
 
 /// The rod of [`across`] is refitted as the two rods its highlights belong to.
@@ -1139,13 +1143,7 @@ fn mirrored_block(x0: f64, y0: f64) -> ([Pose; 3], [Pose; 3], [AxisSeed; 2]) {
         lie(x0 + WIDTH + half_l, y0 + half_w),
         lie(x0 + WIDTH + half_l, y0 + WIDTH + half_w),
     ];
-    let seeds = [truth[0], truth[1]].map(|t| AxisSeed {
-        x: t.x,
-        y: t.y,
-        phi: t.phi,
-        depth: 0.8,
-    });
-    (truth, wrong, seeds)
+    (truth, wrong, [truth[0], truth[1]].map(highlight_along))
 }
 
 /// [`mirrored_block`] by the right edge is refitted as it is: the rod standing across the
