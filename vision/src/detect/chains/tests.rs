@@ -167,6 +167,26 @@ fn along_axis() -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The across-highlights repair of the first of the rods `wrong` fitted on `scene`, with
+/// the highlights `seeds`: how many it repaired, and the rods after it.
+fn across_repaired(scene: &Scene, wrong: &[Pose], seeds: &[AxisSeed]) -> (usize, Vec<Found>) {
+    let cx = scene.cx();
+    let offsets = along_axis();
+    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair_across_highlights(
+        &mut found,
+        &mut maps,
+        &cx,
+        0..1,
+        seeds,
+        &offsets,
+        &offsets,
+        4.5,
+    );
+    (repaired, found)
+}
+
 /// Every true pose has a rod within a pixel of it, turned from it by less than 0.03.
 fn assert_found(found: &[Found], truth: &[Pose]) {
     assert_found_by(found, truth, |g, t| {
@@ -642,30 +662,14 @@ fn a_highlight_across_a_right_rod_leaves_it() {
         y: 90.0,
         phi: 0.3,
     }];
-    let scene = Scene::of(&truth);
-    let cx = scene.cx();
-    let offsets = along_axis();
     let stray = [AxisSeed {
         x: 100.0,
         y: 90.0,
         phi: 0.3 + std::f64::consts::FRAC_PI_2,
         depth: 0.8,
     }];
-    let mut found = vec![scene.found(truth[0], 0.9)];
-    let mut maps = painted(&found, &[], &cx);
-    assert_eq!(
-        repair_across_highlights(
-            &mut found,
-            &mut maps,
-            &cx,
-            0..1,
-            &stray,
-            &offsets,
-            &offsets,
-            4.5
-        ),
-        0
-    );
+    let (repaired, found) = across_repaired(&Scene::of(&truth), &truth, &stray);
+    assert_eq!(repaired, 0);
     assert_eq!(found.len(), 1);
     assert_eq!(found[0].pose, truth[0]);
 }
@@ -767,21 +771,7 @@ fn row_repairs_do_not_depend_on_the_thread_count() {
 fn a_row_squeezed_about_a_turned_rod_is_refitted_end_to_end() {
     let (truth, wrong, highlight) = squeezed_row(60.0);
     let scene = Scene::sized(&truth, 280, 120);
-    let cx = scene.cx();
-    let offsets = along_axis();
-    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
-    let mut maps = painted(&found, &[], &cx);
-    let highlight = [highlight];
-    let repaired = repair_across_highlights(
-        &mut found,
-        &mut maps,
-        &cx,
-        0..1,
-        &highlight,
-        &offsets,
-        &offsets,
-        4.5,
-    );
+    let (repaired, found) = across_repaired(&scene, &wrong, &[highlight]);
     assert_eq!(repaired, 1);
     assert_eq!(found.len(), 5);
     assert_found(&found, &truth);
@@ -1152,21 +1142,7 @@ fn mirrored_block(x0: f64, y0: f64) -> ([Pose; 3], [Pose; 3], [AxisSeed; 2]) {
 #[test]
 fn a_block_read_turned_by_the_edge_is_refitted_as_it_is() {
     let (truth, wrong, seeds) = mirrored_block(115.0, 60.0);
-    let scene = Scene::of(&truth);
-    let cx = scene.cx();
-    let offsets = along_axis();
-    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
-    let mut maps = painted(&found, &[], &cx);
-    let repaired = repair_across_highlights(
-        &mut found,
-        &mut maps,
-        &cx,
-        0..1,
-        &seeds,
-        &offsets,
-        &offsets,
-        4.5,
-    );
+    let (repaired, found) = across_repaired(&Scene::of(&truth), &wrong, &seeds);
     assert_eq!(repaired, 1);
     assert_eq!(found.len(), 3);
     assert_found(&found, &truth);
