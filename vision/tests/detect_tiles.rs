@@ -58,3 +58,66 @@ fn tiled_and_whole_detection_agree() {
         assert_eq!(t.cut, w.cut, "{t:?} vs {w:?}");
     }
 }
+
+/// The report's steps are the pipeline's, in its order, and their times add up to the
+/// call's but for what no step holds (checking the parameters, the tiles' crops, turning the
+/// fits into detections): a whole photograph and one in tiles, rods (their repairs and
+/// settling) and nuts (neither). In tiles, the corner tile holds slivers of rods that measure
+/// 1.7 px/mm: the scale is the median of the tiles' measurements, and the photograph passes.
+#[test]
+fn the_report_times_each_step_of_the_pipeline() {
+    let rods = rod_block(long_rod(), 0.35, 3, 6);
+    let nuts = square_lattice(0.3, 5, 4);
+    for (scene, tile_pixels) in [(&rods, None), (&rods, Some(60_000)), (&nuts, None)] {
+        let image = render(scene, 10.0, &Style::lab());
+        let mut params = DetectParams::new(scene.shape, 10.0 / MM);
+        if let Some(t) = tile_pixels {
+            params.tile_pixels = t;
+        }
+        let start = std::time::Instant::now();
+        let report =
+            detect_report(&image, &params).unwrap_or_else(|e| panic!("tiles {tile_pixels:?}: {e}"));
+        let elapsed = start.elapsed();
+        let steps: Vec<&str> = report.phases.iter().map(|(name, _)| name).collect();
+        let is_rod = matches!(scene.shape, vision::GrainShape::Rod { .. });
+        // In tiles, every tile measures the scale before any is searched.
+        let mut expected = match tile_pixels {
+            Some(_) => vec!["scale and holes", "normalise", "axis seeds"],
+            None => vec!["normalise", "scale and holes", "axis seeds"],
+        };
+        expected.extend(["residual seeds", "fits", "acceptance"]);
+        if is_rod {
+            expected.extend(["repair: rows", "repair: outside", "repair: crowded"]);
+            expected.extend([
+                "repair: turned",
+                "repair: doubtful",
+                "repair: across highlights",
+            ]);
+            expected.extend(["repair: unexplained", "repair: along edge"]);
+        }
+        expected.extend(["settle", "explained"]);
+        assert_eq!(steps, expected, "tiles {tile_pixels:?}");
+        let total = report.phases.total();
+        assert!(total <= elapsed, "{total:?} > {elapsed:?}");
+        let unheld = elapsed - total;
+        assert!(
+            unheld < (elapsed / 2).max(std::time::Duration::from_millis(50)),
+            "{unheld:?} of {elapsed:?} held by no step (tiles {tile_pixels:?})"
+        );
+    }
+}
+
+/// A photograph in tiles at a wrong scale is still refused, with the scale its tiles measured.
+#[test]
+fn a_wrong_scale_is_refused_in_tiles_too() {
+    let scene = rod_block(long_rod(), 0.35, 3, 6);
+    let image = render(&scene, 10.0, &Style::lab());
+    let mut params = DetectParams::new(scene.shape, 4.0 / MM);
+    params.tile_pixels = 20_000;
+    match detect_report(&image, &params) {
+        Err(vision::DetectError::ImplausibleScale {
+            measured_px_per_mm, ..
+        }) => assert!((measured_px_per_mm - 10.0).abs() < 2.5, "{measured_px_per_mm}"),
+        other => panic!("expected an implausible scale, got {other:?}"),
+    }
+}

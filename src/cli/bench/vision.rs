@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 use vision::Frame;
+use vision::detect::Phases;
 use vision::evaluate::Tally;
 use vision::evaluate::bench::{Case, FRAME_HEIGHT, FRAME_WIDTH, run_case, shapes};
 use vision::packing::{Packing, generate};
@@ -142,6 +143,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "| shape | packing | seed | grains in frame | packing fraction | deepest overlap (of D) | touching a neighbour | generation s |\n|---|---|---|---|---|---|---|---|\n",
     );
     let several = args.seeds.0.len() > 1;
+    let mut spent: Vec<Spent> = Vec::new();
     for (shape_name, shape) in chosen {
         let mut pooled: Vec<Row> = Vec::new();
         for (&seed, (pi, &(packing, packing_name))) in args
@@ -177,6 +179,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     };
                     let outcome = run_case(&case, &packed)?;
                     bar.inc(1);
+                    spend(&mut spent, shape_name, px_per_mm, style, &outcome.phases);
                     let row = Row {
                         shape: shape_name,
                         packing: packing_name,
@@ -234,10 +237,113 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         Ok(())
     })?;
+    let phases_out = phases_path(&args.out);
+    write_atomic(&phases_out, |w| {
+        use std::io::Write;
+        writeln!(w, "shape,px_per_mm,style,photos,phase,seconds_per_photo")?;
+        for s in &spent {
+            for (phase, time) in s.phases.iter() {
+                writeln!(
+                    w,
+                    "{},{},{},{},{phase},{:.4}",
+                    s.shape,
+                    s.px_per_mm,
+                    s.style,
+                    s.photos,
+                    time.as_secs_f64() / s.photos as f64
+                )?;
+            }
+        }
+        Ok(())
+    })?;
     println!("{}", markdown(&rows, several));
+    println!("{}", where_time_goes(&spent));
     println!("Packings (258 x 120 mm frame, one core):\n\n{packings_table}");
-    eprintln!("table written to {}", args.out.display());
+    eprintln!(
+        "table written to {}, the detector's time step by step to {}",
+        args.out.display(),
+        phases_out.display()
+    );
     Ok(())
+}
+
+/// The detector's time step by step, over every photograph of a shape, scale and style.
+struct Spent {
+    shape: &'static str,
+    px_per_mm: f64,
+    style: &'static str,
+    photos: usize,
+    phases: Phases,
+}
+
+/// Adds a photograph's steps to those of its shape, scale and style.
+fn spend(
+    spent: &mut Vec<Spent>,
+    shape: &'static str,
+    px_per_mm: f64,
+    style: &'static str,
+    phases: &Phases,
+) {
+    let same = |s: &&mut Spent| s.shape == shape && s.px_per_mm == px_per_mm && s.style == style;
+    let s = match spent.iter_mut().find(same) {
+        Some(s) => s,
+        None => {
+            spent.push(Spent {
+                shape,
+                px_per_mm,
+                style,
+                photos: 0,
+                phases: Phases::default(),
+            });
+            spent.last_mut().expect("just pushed")
+        }
+    };
+    s.photos += 1;
+    s.phases.add_all(phases);
+}
+
+/// The CSV of the detector's steps beside the results' (`bench-vision.csv`:
+/// `bench-vision-phases.csv`).
+fn phases_path(out: &std::path::Path) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map_or("bench-vision".into(), |s| s.to_string_lossy().into_owned());
+    out.with_file_name(format!("{stem}-phases.csv"))
+}
+
+/// Each shape, scale and style's time per photograph step by step, with each step's share.
+fn where_time_goes(spent: &[Spent]) -> String {
+    let mut s = String::from(
+        "Where the detector's time goes (wall seconds per photograph, both packings and every \
+         seed pooled; steps in pipeline order, a step's share in brackets when 5 % or more):\n\n",
+    );
+    for sp in spent {
+        let n = sp.photos as f64;
+        let total = sp.phases.total().as_secs_f64();
+        let steps: Vec<String> = sp
+            .phases
+            .iter()
+            .map(|(name, time)| {
+                let t = time.as_secs_f64();
+                let share = if total > 0.0 { t / total } else { 0.0 };
+                if share >= 0.05 {
+                    format!("{name} {:.3} ({:.0} %)", t / n, 100.0 * share)
+                } else {
+                    format!("{name} {:.3}", t / n)
+                }
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "- {} {} px/mm {} ({:.3} s): {}",
+            sp.shape,
+            sp.px_per_mm,
+            sp.style,
+            total / n,
+            steps.join(", ")
+        );
+    }
+    s
 }
 
 /// Adds a photograph's row to the row of `pooled` that pools both packings of `seed` (none:

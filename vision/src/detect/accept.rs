@@ -13,6 +13,7 @@ use super::chains;
 use super::fit::{self, Levels};
 use super::model::{Model, Pose};
 use super::nearby::Nearby;
+use super::phases::Laps;
 use super::plane::{Bordered, Plane};
 use super::ridges;
 use super::seeds::{self, BrightBlob};
@@ -95,6 +96,7 @@ pub fn find_grains(
     dark: &Plane,
     blobs: &[BrightBlob],
     params: &DetectParams,
+    laps: &mut Laps,
 ) -> (Vec<Found>, Plane) {
     let px_per_mm = params.scale * 1e-3;
     let factor = (px_per_mm / COARSE_PX_PER_MM).floor().max(1.0) as usize;
@@ -171,6 +173,7 @@ pub fn find_grains(
             *depths.select_nth_unstable_by(mid, |a, b| a.total_cmp(b)).1
         }
     };
+    laps.lap("axis seeds");
     let fine_model = fine_model.with_highlight_floor(highlight_floor);
     let coarse_model = coarse_model.with_highlight_floor(highlight_floor);
     let residual_step = (0.15 * width).max(f);
@@ -248,6 +251,7 @@ pub fn find_grains(
         if pending.is_empty() {
             break;
         }
+        laps.lap("residual seeds");
         // What the round's fits read but the free darkness, which each grain accepted paints.
         let unpainted = Levels {
             coarse_free: &coarse_free,
@@ -267,6 +271,7 @@ pub fn find_grains(
             })
             .collect::<Vec<_>>()
             .into();
+        laps.lap("fits");
         let mut this_round = Nearby::new(reach);
         let mut accepted_this_round = 0;
         let mut deferred = Vec::new();
@@ -356,6 +361,7 @@ pub fn find_grains(
             accepted_this_round += 1;
             found.push(Found::at(ft.pose, now.agreement as f64, &fine_model));
         }
+        laps.lap("acceptance");
         if accepted_this_round == 0 {
             break;
         }
@@ -374,6 +380,7 @@ pub fn find_grains(
             &fine_model,
             factor,
         );
+        laps.lap("acceptance");
     }
     let mut maps = Maps {
         explained,
@@ -404,11 +411,13 @@ pub fn find_grains(
         // rods it moved are looked at once more.
         let again = near_moved(&found, &first, 2.0 * length);
         chains::repair(&mut found, &mut maps, &cx, again.into_iter());
+        laps.lap("repair: rows");
         // After the rows, which a rod fitted centred outside the frame can hide from their
         // repair, and before the rest, which look for what it leaves: lab rod53 at 6 px/mm
         // 2.95 -> 2.51 degrees on seed 1 and 2.33 -> 1.74 on seed 2, rod3 at 10 px/mm
         // 99.49 -> 99.55 % recall on seed 1 (seed 3 unchanged).
         chains::repair_outside(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        laps.lap("repair: outside");
         let rows: Vec<Pose> = found.iter().map(|f| f.pose).collect();
         // The seeds that failed to the end mark the dark area no rod could explain. Before
         // the turned-rod repair, whose cases it mostly covers too: lab rod53 at 10 px/mm
@@ -421,8 +430,11 @@ pub fn find_grains(
             &residual_offsets,
             residual_step,
         );
+        laps.lap("repair: crowded");
         chains::repair_turned(&mut found, &mut maps, &cx, &along_axis, residual_step);
+        laps.lap("repair: turned");
         chains::repair_doubtful(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        laps.lap("repair: doubtful");
         let across = |found: &mut Vec<Found>, maps: &mut Maps, tried: Vec<usize>| {
             chains::repair_across_highlights(
                 found,
@@ -437,22 +449,27 @@ pub fn find_grains(
         };
         let every = (0..found.len()).collect();
         across(&mut found, &mut maps, every);
+        laps.lap("repair: across highlights");
         // Last: what every other repair left unexplained marks the rods still missed (lab
         // rod53 at 10 px/mm: 8 misses -> 3, 4 rods turned -> 2).
         let before: Vec<Pose> = found.iter().map(|f| f.pose).collect();
         chains::repair_unexplained(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        laps.lap("repair: unexplained");
         // A rod added at an unexplained spot may be turned across rods face to face as the
         // first fits were: those it added or refitted are looked at again.
         let changed = moved_since(&found, &before).collect();
         across(&mut found, &mut maps, changed);
+        laps.lap("repair: across highlights");
         // After the across-highlights repair, which can turn a rod fitted onto the stubs
         // the edge leaves: lab rod53 at 6 px/mm 2.51 -> 2.03 degrees on seed 1 and
         // 2.96 -> 2.08 on seed 3 (run before the crowded repair instead, seed 1 2.51 -> 2.92).
         chains::repair_along_edge(&mut found, &mut maps, &cx, &residual_offsets, residual_step);
+        laps.lap("repair: along edge");
         // A rod moved by a later repair may uncover the stub of a row shifted along itself
         // that the row repairs before could not see: rows near a moved rod are looked at again.
         let again = near_moved(&found, &rows, 2.0 * length);
         chains::repair(&mut found, &mut maps, &cx, again.into_iter());
+        laps.lap("repair: rows");
     }
     // Last, once no repair moves a rod any more: every grain refined against its neighbours
     // where they ended up.
@@ -463,6 +480,7 @@ pub fn find_grains(
         min_visible: params.min_visible,
     };
     settle::settle(&mut found, &mut maps, &settling, params.settle_sweeps);
+    laps.lap("settle");
     (found, maps.free)
 }
 

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use crate::detect::{DetectError, DetectParams, detect};
+use crate::detect::{DetectError, DetectParams, Phases, detect_report};
 use crate::packing::{PackedFrame, Packing};
 use crate::render::{Style, render};
 use crate::{Frame, GrainShape};
@@ -52,6 +52,8 @@ pub struct Outcome {
     pub tally: Tally,
     /// Wall time of the detector alone (seconds).
     pub detect_seconds: f64,
+    /// The detector's time step by step.
+    pub phases: Phases,
     /// Wall time of rendering the photograph (seconds).
     pub render_seconds: f64,
 }
@@ -83,11 +85,12 @@ pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectErro
     // The defaults of this shape (not `Default`'s, which are the nuts').
     let params = DetectParams::new(case.shape, frame.scale);
     let start = Instant::now();
-    let detections = detect(&photo, &params)?;
+    let report = detect_report(&photo, &params)?;
     let detect_seconds = start.elapsed().as_secs_f64();
     Ok(Outcome {
-        tally: score(&truth_in_frame(packed, &frame), &detections),
+        tally: score(&truth_in_frame(packed, &frame), &report.grains),
         detect_seconds,
+        phases: report.phases,
         render_seconds,
     })
 }
