@@ -117,7 +117,10 @@ fn a_wrong_scale_is_refused_in_tiles_too() {
     match detect_report(&image, &params) {
         Err(vision::DetectError::ImplausibleScale {
             measured_px_per_mm, ..
-        }) => assert!((measured_px_per_mm - 10.0).abs() < 2.5, "{measured_px_per_mm}"),
+        }) => assert!(
+            (measured_px_per_mm - 10.0).abs() < 2.5,
+            "{measured_px_per_mm}"
+        ),
         other => panic!("expected an implausible scale, got {other:?}"),
     }
 }

@@ -348,10 +348,7 @@ fn find(
     let mut laps = phases::Laps::new(phases);
     let (width, height) = image.dimensions();
     let pixels = width as u64 * height as u64;
-    let grey = normalise::grey_plane(image);
-    let length_px = params.shape.length() * params.scale;
-    let dark = normalise::darkness(&grey, (2.0 * length_px).round() as usize);
-    drop(grey);
+    let dark = darkness_of(image, params);
     laps.lap("normalise");
     // Nothing to find, and nothing to tell of what is explained: no tile without grains is
     // counted, and a whole photograph this bare has no fraction.
@@ -404,12 +401,18 @@ fn validate(params: &DetectParams) -> Result<(), DetectError> {
     Ok(())
 }
 
+/// The darkness of a photograph (or a tile), its backlight divided out over blocks of two
+/// grain lengths.
+fn darkness_of(image: &DynamicImage, params: &DetectParams) -> normalise::Darkness {
+    let grey = normalise::grey_plane(image);
+    let length_px = params.shape.length() * params.scale;
+    normalise::darkness(&grey, (2.0 * length_px).round() as usize)
+}
+
 /// The scale measured in a photograph (or a tile) from the sizes it shows (pixels per metre),
 /// if it shows grains enough.
 fn measured_in(image: &DynamicImage, params: &DetectParams) -> Option<f64> {
-    let grey = normalise::grey_plane(image);
-    let length_px = params.shape.length() * params.scale;
-    let dark = normalise::darkness(&grey, (2.0 * length_px).round() as usize);
+    let dark = darkness_of(image, params);
     let (w, h) = image.dimensions();
     if dark.dark_fraction * f64::from(w) * f64::from(h) < least_dark_px(params) {
         return None;
