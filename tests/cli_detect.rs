@@ -70,3 +70,39 @@ fn rods_sought_longer_than_they_are_are_warned_about() {
     let right = detect_rods(photo, "5/3");
     assert!(!right.contains("warning"), "{right}");
 }
+
+/// `--timings` prints each step of the detector's pipeline with its time, and the total.
+#[test]
+fn timings_name_each_step_of_the_pipeline() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("data-samples/photos/rod53-lab-10px.png");
+    let run = Command::new(env!("CARGO_BIN_EXE_facets"))
+        .args(["detect", "--shape", "rod", "--aspect", "5/3"])
+        .args(["--px-per-mm", "10", "--timings", "--out"])
+        .arg(dir.path())
+        .arg(&photo)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{run:?}");
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    let line = stdout
+        .lines()
+        .find(|l| l.trim_start().starts_with("steps (s):"))
+        .unwrap_or_else(|| panic!("no steps line: {stdout}"));
+    for step in [
+        "normalise",
+        "fits",
+        "acceptance",
+        "repair: across highlights",
+        "settle",
+    ] {
+        assert!(line.contains(step), "{step} missing: {line}");
+    }
+    let total: f64 = line
+        .rsplit("total ")
+        .next()
+        .and_then(|t| t.trim_end_matches(" s").parse().ok())
+        .unwrap_or_else(|| panic!("no total: {line}"));
+    assert!(total > 0.0, "{line}");
+}

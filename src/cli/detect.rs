@@ -46,6 +46,10 @@ pub struct Args {
     /// for nuts (1 sweep: 0.34 -> 0.20 degrees, about 0.1-0.2 s more a photograph).
     #[arg(long)]
     pub settle_sweeps: Option<usize>,
+    /// Also print, for each photograph, where the detector's time went: the wall time of
+    /// each step of its pipeline (normalise, seeds, fits, acceptance, each repair, settle).
+    #[arg(long)]
+    pub timings: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -86,6 +90,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     r.cut,
                     r.table.display()
                 );
+                if args.timings {
+                    println!("  steps (s): {}", detection::steps_line(&r.phases));
+                }
                 let check = what_to_check(&args);
                 if let Some(warning) = detection::poorly_explained(photo, r.explained, &check) {
                     eprintln!("warning: {warning}");

@@ -97,6 +97,8 @@ pub struct PhotoResult {
     pub cut: usize,
     /// Fraction of the photograph's dark pixels the grains found explain ([`vision::Report`]).
     pub explained: Option<f64>,
+    /// The detector's wall time step by step ([`vision::Report::phases`]).
+    pub phases: vision::Phases,
 }
 
 /// Detects the grains of one photograph and writes `<stem>.csv` (and `<stem>_overlay.png`)
@@ -130,7 +132,22 @@ pub fn detect_photo(
         grains: found.len(),
         cut: found.iter().filter(|d| d.cut).count(),
         explained: report.explained,
+        phases: report.phases,
     })
+}
+
+/// The detector's steps on one photograph as a line: each step's wall time, then the total
+/// (seconds).
+pub fn steps_line(phases: &vision::Phases) -> String {
+    let steps: Vec<String> = phases
+        .iter()
+        .map(|(name, time)| format!("{name} {:.3}", time.as_secs_f64()))
+        .collect();
+    format!(
+        "{}; total {:.3} s",
+        steps.join(", "),
+        phases.total().as_secs_f64()
+    )
 }
 
 /// The warning for a photograph whose dark area the grains found leave largely unexplained

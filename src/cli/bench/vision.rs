@@ -22,12 +22,14 @@ Recall counts uncut true grains; precision counts detections not flagged cut; RM
 uncut true grains; orientation errors are modulo the shape's symmetry, and the grains turned \
 by more than 10 degrees (fitted across their neighbours) are also counted apart, with the RMS \
 of the others. Times are wall \
-times per photograph of the detector and, apart, of the renderer."
+times per photograph of the detector and, apart, of the renderer; a list under the table (and \
+the CSV beside it) says where the detector's time goes, step by step of its pipeline."
 )]
 pub struct Args {
     /// CSV table of the results (one row per shape, packing, seed, scale and style, plus the
     /// two packings of each seed pooled and, with several seeds, everything pooled: seed
-    /// `all`).
+    /// `all`). Beside it, `<name>-phases.csv`: the detector's wall time per photograph step
+    /// by step of its pipeline, per shape, scale and style.
     #[arg(long, default_value = "bench-vision.csv")]
     out: PathBuf,
 
@@ -419,7 +421,17 @@ fn table<'r>(rows: impl Iterator<Item = &'r Row>, by_seed: bool) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::parse_seeds;
+    use super::{parse_seeds, phases_path};
+    use std::path::Path;
+
+    #[test]
+    fn the_steps_are_written_beside_the_table() {
+        assert_eq!(
+            phases_path(Path::new("runs/bench-vision.csv")),
+            Path::new("runs/bench-vision-phases.csv")
+        );
+        assert_eq!(phases_path(Path::new("b")), Path::new("b-phases.csv"));
+    }
 
     #[test]
     fn seeds_are_read_as_lists_and_ranges_each_once() {
