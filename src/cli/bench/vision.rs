@@ -5,11 +5,10 @@ use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
-use vision::Frame;
-use vision::detect::Phases;
 use vision::evaluate::Tally;
 use vision::evaluate::bench::{Case, FRAME_HEIGHT, FRAME_WIDTH, run_case, shapes};
 use vision::packing::{Packing, generate};
+use vision::{Frame, Phases};
 
 use facets::io::write_atomic;
 
