@@ -82,6 +82,11 @@ pub fn repair(
     // Beyond a centre, the farthest an outline (and its ring) reaches, with a rod length's
     // slack for the refinement's moves (4 px of slack lost a repair in rod3 ordered lab).
     let pad = f64::from(ex.max(ey)) + length;
+    // A rod beside the row refitted along its own axis, up to half of L - D either way.
+    let shifts: Vec<(f64, f64)> = (-3..=3)
+        .map(|k| (f64::from(k) / 6.0 * (length - width).max(0.0), 0.0))
+        .collect();
+    let step = (0.15 * width).max(cx.levels.factor);
     let mut touched = vec![false; found.len()];
     let mut repaired = 0;
     for g in tried {
@@ -101,35 +106,28 @@ pub fn repair(
                 continue;
             }
             let phi = found[g].pose.phi;
-            let aligned: Vec<Pose> = row
-                .iter()
-                .map(|&k| {
-                    let p = found[k].pose;
-                    let turned = (p.phi - phi).cos() < 0.0;
-                    Pose {
-                        phi: if turned {
-                            p.phi + std::f64::consts::PI
-                        } else {
-                            p.phi
-                        },
-                        ..p
-                    }
-                })
-                .collect();
+            let aligned: Vec<Pose> = row.iter().map(|&k| facing(found[k].pose, phi)).collect();
             let last = *aligned.last().expect("the row holds its first rod");
             // A rod turned across the row where its next rod would lie: the room the row
             // leaves there is measured with it taken off, and it becomes the rod added.
             let crossing = turned_in_row(found, last, -sign, cx)
                 .filter(|&t| !touched[t] && seen(found[t].pose, &local, cx) >= CROSSING_SEEN);
+            // Else a rod of its own beside the row's axis reaching over its end: the room is
+            // measured with it taken off, and it is fitted again after the row.
+            let beside = match crossing {
+                Some(_) => None,
+                None => over_end(found, &row, last, -sign, cx).filter(|&t| !touched[t]),
+            };
             // A row running into the photograph's edge: its last rod may be cut there, so the
             // room at that end need only hold part of a rod ([`EDGE_ROOM`]).
             let room_beyond = |free: &Plane| stub_to_edge(free, last, -sign, half, width, length);
-            let (s2, at_edge) = match crossing {
+            let (s2, at_edge) = match crossing.or(beside) {
                 Some(t) => local.without(found, t, cx, |l| room_beyond(&l.maps.free)),
                 None => room_beyond(&local.maps.free),
             };
-            // The rod a crossing one becomes must lie whole in the photograph.
-            if crossing.is_some() && at_edge {
+            // The rod a crossing one becomes, or the rod added beside one, must lie whole in
+            // the photograph.
+            if (crossing.is_some() || beside.is_some()) && at_edge {
                 continue;
             }
             let room = s1 + s2;
@@ -160,8 +158,10 @@ pub fn repair(
             // The maps change in a window holding the row before and after, undone there
             // when the repair is not kept.
             let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-            let crossing_pose = crossing.map(|t| found[t].pose);
-            for p in aligned.iter().chain(&starts).chain(&crossing_pose) {
+            // The rod off the row that the trial takes off with it.
+            let other = crossing.or(beside);
+            let other_pose = other.map(|t| found[t].pose);
+            for p in aligned.iter().chain(&starts).chain(&other_pose) {
                 (x0, x1) = (x0.min(p.x), x1.max(p.x));
                 (y0, y1) = (y0.min(p.y), y1.max(p.y));
             }
@@ -173,13 +173,13 @@ pub fn repair(
                 &local.maps.free,
             );
             let original = local.save(window);
-            let members: Vec<usize> = row.iter().copied().chain(crossing).collect();
+            let members: Vec<usize> = row.iter().copied().chain(other).collect();
             for &k in &members {
                 local.unpaint(found, k, &members, cx);
             }
             let without = local.save(window);
             let mut old_total = 0.0;
-            for &p in aligned.iter().chain(&crossing_pose) {
+            for &p in aligned.iter().chain(&other_pose) {
                 let sc = cx.model.score(p, cx.levels.fine, &local.maps.free_bordered);
                 old_total += f64::from(sc.total);
                 local.paint(p, window, cx);
@@ -198,8 +198,18 @@ pub fn repair(
                 local.paint(ft.pose, window, cx);
                 fitted.push(ft);
             }
-            // A rod turned across the row is only refitted along it for a clear gain.
-            let least = if crossing.is_some() {
+            // The rod beside, pushed into the row's end, comes back along its own axis.
+            if let (true, Some(t)) = (good, beside) {
+                let p = found[t].pose;
+                let ft = fit::fit(&local.levels(cx), (p.x, p.y), &shifts, step, Some(p.phi));
+                good = cx.passes(&ft, local.box_of(ft.pose, cx.model), window);
+                new_total += f64::from(ft.score.total);
+                local.paint(ft.pose, window, cx);
+                fitted.push(ft);
+            }
+            // A rod turned across the row is only refitted along it, and a rod is only added
+            // beside one, for a clear gain.
+            let least = if crossing.is_some() || beside.is_some() {
                 cx.least_gain()
             } else {
                 0.0
@@ -209,7 +219,8 @@ pub fn repair(
                 continue;
             }
             let added_to = crossing.unwrap_or(usize::MAX);
-            for (k, ft) in row.iter().chain(std::iter::once(&added_to)).zip(&fitted) {
+            let targets = row.iter().chain(std::iter::once(&added_to)).chain(&beside);
+            for (k, ft) in targets.zip(&fitted) {
                 let g = cx.found(ft);
                 if *k == usize::MAX {
                     found.push(g);
@@ -275,6 +286,29 @@ fn turned_in_row(found: &[Found], last: Pose, sign: f64, cx: &Context) -> Option
     })
 }
 
+/// The rod, not of the `row`, whose outline holds the point a quarter of a width beyond the
+/// end `sign` of the row's `last` rod, on its axis: a rod standing beside the row's end and
+/// fitted pushed into it (lab rod3 at 10 px/mm, seed 72 ordered: a rod standing on the last
+/// rod's side, 3 mm off the row's axis, fitted 3 mm into the row's end, the row of four
+/// fitted as three shifted by a third of a length).
+fn over_end(found: &[Found], row: &[usize], last: Pose, sign: f64, cx: &Context) -> Option<usize> {
+    let q = along(last, sign * (0.5 * cx.length + 0.25 * cx.width));
+    (0..found.len()).find(|&k| !row.contains(&k) && cx.model.covers(found[k].pose, (q.x, q.y)))
+}
+
+/// Rod pose `p` turned by a half turn if that points it within a right angle of `phi`: the
+/// same rod, pointing the way a row runs.
+fn facing(p: Pose, phi: f64) -> Pose {
+    if (p.phi - phi).cos() < 0.0 {
+        Pose {
+            phi: p.phi + std::f64::consts::PI,
+            ..p
+        }
+    } else {
+        p
+    }
+}
+
 /// Length of a rod's axis (half length `half`) inside the plane, in pixels.
 fn inside(plane: &Plane, pose: Pose, half: f64) -> f64 {
     let (s, c) = pose.phi.sin_cos();
@@ -326,7 +360,11 @@ pub(super) fn chain(
         match hit {
             Some(k) if out.len() < 8 => {
                 out.push(k);
-                at = found[k].pose;
+                // A rod is the same turned by a half turn: the walk goes on the way the row
+                // runs, whichever way round the rod was fitted. Taken as fitted, a rod fitted
+                // the other way round sent the walk back, and rows stopped at their second
+                // rod (lab rod3 at 10 px/mm, seed 72 ordered: a row of four seen as two).
+                at = facing(found[k].pose, at.phi);
             }
             _ => return out,
         }
