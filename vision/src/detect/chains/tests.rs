@@ -234,6 +234,16 @@ fn row_repaired(truth: &[f64], fitted: &[f64]) -> (usize, Vec<Found>, Vec<Pose>)
     (repaired, found, truth)
 }
 
+/// The rods fitted at `wrong` in `scene`, after the row repair over all of them: the rows
+/// repaired and the rods.
+fn rows_repaired(scene: &Scene, wrong: &[Pose]) -> (usize, Vec<Found>) {
+    let cx = scene.cx();
+    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
+    let mut maps = painted(&found, &[], &cx);
+    let repaired = repair(&mut found, &mut maps, &cx, 0..wrong.len());
+    (repaired, found)
+}
+
 /// Every true pose of a row has a rod along it. Refined one after another, each rod of a
 /// row touching end to end is pushed a pixel or so along by the one before it: a tenth of
 /// a length against the half undone.
@@ -293,9 +303,7 @@ fn a_rod_standing_across_a_row_shifted_onto_it_is_refitted_along_the_row() {
     let standing = at(30.0 + 0.5 * (LENGTH + WIDTH), std::f64::consts::FRAC_PI_2);
     let shifted = at(truth[2].x - (LENGTH - WIDTH), 0.0);
     let wrong = [truth[0], standing, shifted, truth[3]];
-    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
-    let mut maps = painted(&found, &[], &cx);
-    let repaired = repair(&mut found, &mut maps, &cx, 0..wrong.len());
+    let (repaired, found) = rows_repaired(&scene, &wrong);
     assert_eq!(repaired, 1);
     assert_eq!(found.len(), 4);
     assert_row_found(&found, &truth);
@@ -384,9 +392,7 @@ fn a_row_ending_under_a_rod_standing_beside_it_is_put_back() {
             ..standing
         }])
         .collect();
-    let mut found: Vec<Found> = wrong.iter().map(|&p| scene.found(p, 0.9)).collect();
-    let mut maps = painted(&found, &[], &cx);
-    let repaired = repair(&mut found, &mut maps, &cx, 0..wrong.len());
+    let (repaired, found) = rows_repaired(&scene, &wrong);
     assert_eq!(repaired, 1);
     assert_eq!(found.len(), 5);
     assert_row_found(&found, &row);
