@@ -299,7 +299,6 @@ fn a_rod_standing_across_a_row_shifted_onto_it_is_refitted_along_the_row() {
     let at = |x: f64, phi: f64| Pose { x, y: 90.0, phi };
     let truth: Vec<Pose> = (0..4).map(|k| at(30.0 + LENGTH * k as f64, 0.0)).collect();
     let scene = Scene::sized(&truth, 230, 180);
-    let cx = scene.cx();
     let standing = at(30.0 + 0.5 * (LENGTH + WIDTH), std::f64::consts::FRAC_PI_2);
     let shifted = at(truth[2].x - (LENGTH - WIDTH), 0.0);
     let wrong = [truth[0], standing, shifted, truth[3]];
@@ -378,7 +377,6 @@ fn a_row_ending_under_a_rod_standing_beside_it_is_put_back() {
     };
     let truth: Vec<Pose> = row.iter().copied().chain([standing]).collect();
     let scene = Scene::sized(&truth, 260, 180);
-    let cx = scene.cx();
     let shift = 18.0;
     let wrong: Vec<Pose> = row[..3]
         .iter()
