@@ -118,16 +118,18 @@ pub fn repair(
                 Some(_) => None,
                 None => over_end(found, &row, last, -sign, cx).filter(|&t| !touched[t]),
             };
+            // The rod off the row that the trial takes off with it.
+            let other = crossing.or(beside);
             // A row running into the photograph's edge: its last rod may be cut there, so the
             // room at that end need only hold part of a rod ([`EDGE_ROOM`]).
             let room_beyond = |free: &Plane| stub_to_edge(free, last, -sign, half, width, length);
-            let (s2, at_edge) = match crossing.or(beside) {
+            let (s2, at_edge) = match other {
                 Some(t) => local.without(found, t, cx, |l| room_beyond(&l.maps.free)),
                 None => room_beyond(&local.maps.free),
             };
             // The rod a crossing one becomes, or the rod added beside one, must lie whole in
             // the photograph.
-            if (crossing.is_some() || beside.is_some()) && at_edge {
+            if other.is_some() && at_edge {
                 continue;
             }
             let room = s1 + s2;
@@ -158,8 +160,6 @@ pub fn repair(
             // The maps change in a window holding the row before and after, undone there
             // when the repair is not kept.
             let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-            // The rod off the row that the trial takes off with it.
-            let other = crossing.or(beside);
             let other_pose = other.map(|t| found[t].pose);
             for p in aligned.iter().chain(&starts).chain(&other_pose) {
                 (x0, x1) = (x0.min(p.x), x1.max(p.x));
@@ -209,7 +209,7 @@ pub fn repair(
             }
             // A rod turned across the row is only refitted along it, and a rod is only added
             // beside one, for a clear gain.
-            let least = if crossing.is_some() || beside.is_some() {
+            let least = if other.is_some() {
                 cx.least_gain()
             } else {
                 0.0
