@@ -106,3 +106,22 @@ fn timings_name_each_step_of_the_pipeline() {
         .unwrap_or_else(|| panic!("no total: {line}"));
     assert!(total > 0.0, "{line}");
 }
+
+/// `--finalists 0` is refused before any photograph is read, naming the option and the value.
+#[test]
+fn a_fit_refining_no_finalist_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = Command::new(env!("CARGO_BIN_EXE_facets"))
+        .args(["detect", "--shape", "rod", "--aspect", "5/3"])
+        .args(["--px-per-mm", "10", "--finalists", "0", "--out"])
+        .arg(dir.path())
+        .arg(dir.path().join("none.png"))
+        .output()
+        .unwrap();
+    assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.contains("--finalists") && stderr.contains("'0'"),
+        "{stderr}"
+    );
+}

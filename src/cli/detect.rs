@@ -8,6 +8,8 @@ use rayon::prelude::*;
 use facets::detection;
 use vision::DetectParams;
 
+use super::shortcuts::ShortcutArgs;
+
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum Shape {
     /// Square nuts (6.9 mm side, 3.3 mm hole).
@@ -40,12 +42,8 @@ pub struct Args {
     /// Refuse fits whose agreement with the photograph is below this (0..1).
     #[arg(long, default_value_t = 0.5)]
     pub min_confidence: f64,
-    /// Sweeps of settling at the end, each grain refined again against its neighbours where
-    /// they ended up. Default 2 for rods (lab, 10 px/mm: orientation error of the rods not
-    /// turned 0.62 -> 0.27 degrees, centre 0.07 -> 0.04 mm, about 0.2 s a photograph) and 0
-    /// for nuts (1 sweep: 0.34 -> 0.20 degrees, about 0.1-0.2 s more a photograph).
-    #[arg(long)]
-    pub settle_sweeps: Option<usize>,
+    #[command(flatten)]
+    pub shortcuts: ShortcutArgs,
     /// Also print, for each photograph, where the detector's time went: the wall time of
     /// each step of its pipeline (normalise, seeds, fits, acceptance, each repair, settle).
     #[arg(long)]
@@ -54,11 +52,11 @@ pub struct Args {
 
 pub fn run(args: Args) -> anyhow::Result<()> {
     let shape = detection::grain_shape(matches!(args.shape, Shape::Square), args.aspect)?;
-    let mut params = DetectParams::new(shape, args.px_per_mm * 1e3);
+    let mut params = args
+        .shortcuts
+        .shortcuts()
+        .apply(DetectParams::new(shape, args.px_per_mm * 1e3));
     params.min_confidence = args.min_confidence;
-    if let Some(sweeps) = args.settle_sweeps {
-        params.settle_sweeps = sweeps;
-    }
     let list = detection::collect_photos(&args.photos)?;
     if list.is_empty() {
         bail!("no PNG, TIFF or JPEG photographs found in the paths given");

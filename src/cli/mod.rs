@@ -8,6 +8,7 @@ mod drop;
 mod progress;
 mod render;
 mod reproduce;
+mod shortcuts;
 mod sim;
 
 use clap::{Parser, Subcommand};

@@ -8,9 +8,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use vision::evaluate::Tally;
 use vision::evaluate::bench::{Case, FRAME_HEIGHT, FRAME_WIDTH, run_case, shapes};
 use vision::packing::{Packing, generate};
-use vision::{Frame, Phases};
+use vision::{Frame, Phases, Shortcuts};
 
 use facets::io::write_atomic;
+
+use crate::cli::shortcuts::ShortcutArgs;
 
 #[derive(Debug, ClapArgs)]
 #[command(
@@ -51,6 +53,9 @@ pub struct Args {
     /// turned.
     #[arg(long = "seed", default_value = "1", value_parser = parse_seeds)]
     seeds: Seeds,
+
+    #[command(flatten)]
+    shortcuts: ShortcutArgs,
 }
 
 /// The seeds `--seed` names, in the order given, each once.
@@ -144,6 +149,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         "| shape | packing | seed | grains in frame | packing fraction | deepest overlap (of D) | touching a neighbour | generation s |\n|---|---|---|---|---|---|---|---|\n",
     );
     let several = args.seeds.0.len() > 1;
+    let shortcuts = args.shortcuts.shortcuts();
     let mut spent: Vec<Spent> = Vec::new();
     for (shape_name, shape) in chosen {
         let mut pooled: Vec<Row> = Vec::new();
@@ -177,6 +183,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                         px_per_mm,
                         style_name: style,
                         seed,
+                        shortcuts,
                     };
                     let outcome = run_case(&case, &packed)?;
                     bar.inc(1);
@@ -210,13 +217,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         use std::io::Write;
         writeln!(
             w,
-            "shape,packing,seed,px_per_mm,style,photos,truth_uncut,recall,precision,centre_rms_mm,orientation_rms_deg,turned_grains,unturned_orientation_rms_deg,cut_detections,cut_matched,seconds_per_photo,render_seconds_per_photo"
+            "shape,packing,seed,px_per_mm,style,photos,truth_uncut,recall,precision,centre_rms_mm,orientation_rms_deg,turned_grains,unturned_orientation_rms_deg,cut_detections,cut_matched,seconds_per_photo,render_seconds_per_photo,shortcuts"
         )?;
         for r in &rows {
             let t = &r.tally;
             writeln!(
                 w,
-                "{},{},{},{},{},{},{},{:.5},{:.5},{:.4},{:.3},{},{:.3},{},{},{:.4},{:.4}",
+                "{},{},{},{},{},{},{},{:.5},{:.5},{:.4},{:.3},{},{:.3},{},{},{:.4},{:.4},{}",
                 r.shape,
                 r.packing,
                 r.seed.map_or("all".to_string(), |k| k.to_string()),
@@ -233,7 +240,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 t.detections_cut,
                 t.detections_cut_matched,
                 r.seconds / r.photos as f64,
-                r.render_seconds / r.photos as f64
+                r.render_seconds / r.photos as f64,
+                args.shortcuts.describe()
             )?;
         }
         Ok(())
@@ -257,6 +265,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         }
         Ok(())
     })?;
+    if shortcuts != Shortcuts::default() {
+        println!(
+            "Detector shortcuts taken: {} (README, \"Speed against accuracy\").\n",
+            args.shortcuts.describe()
+        );
+    }
     println!("{}", markdown(&rows, several));
     println!("{}", where_time_goes(&spent));
     println!("Packings (258 x 120 mm frame, one core):\n\n{packings_table}");

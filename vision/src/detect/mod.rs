@@ -74,6 +74,14 @@ pub struct DetectParams {
     /// Sweeps of settling at the end: every grain refined again against its neighbours where
     /// they ended up ([`settle::SWEEPS`] for rods; none for nuts, see `DetectParams::new`).
     pub settle_sweeps: usize,
+    /// Distinct coarse poses of each fit refined at full resolution, the best of them kept
+    /// (at least one). Fewer is faster and less accurate (README, "Speed against accuracy").
+    pub finalists: usize,
+    /// Rods: after the rounds and the rows' repair, the repairs of the other mistakes the
+    /// greedy acceptance makes (rods turned across their neighbours, left out, crowded or
+    /// fitted outside the frame). Without them faster and less accurate (README, "Speed
+    /// against accuracy").
+    pub repairs: bool,
     /// Refuse a scale that disagrees with the sizes measured in the photograph.
     pub check_scale: bool,
     /// Largest photograph accepted, in pixels.
@@ -97,10 +105,38 @@ impl DetectParams {
                 GrainShape::Rod { .. } => settle::SWEEPS,
                 GrainShape::Square { .. } => 0,
             },
+            finalists: fit::FINALISTS,
+            repairs: true,
             check_scale: true,
             max_pixels: MAX_PIXELS,
             tile_pixels: TILE_PIXELS,
         }
+    }
+}
+
+/// What the detector may leave out to go faster, each at a cost in accuracy that the README
+/// measures ("Speed against accuracy"); the default leaves out nothing.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Shortcuts {
+    /// Finalists refined a fit, instead of [`DetectParams::finalists`]' three.
+    pub finalists: Option<usize>,
+    /// Sweeps of settling, instead of the shape's default.
+    pub settle_sweeps: Option<usize>,
+    /// Leave out the rods' repairs but the rows'.
+    pub no_repairs: bool,
+}
+
+impl Shortcuts {
+    /// The parameters with these shortcuts taken.
+    pub fn apply(&self, mut params: DetectParams) -> DetectParams {
+        if let Some(n) = self.finalists {
+            params.finalists = n;
+        }
+        if let Some(n) = self.settle_sweeps {
+            params.settle_sweeps = n;
+        }
+        params.repairs &= !self.no_repairs;
+        params
     }
 }
 
@@ -397,6 +433,9 @@ fn validate(params: &DetectParams) -> Result<(), DetectError> {
     }
     if !(0.0..=1.0).contains(&params.min_confidence) || !(0.0..=1.0).contains(&params.min_visible) {
         return bad("min_confidence and min_visible must lie in [0, 1]".into());
+    }
+    if params.finalists == 0 {
+        return bad("finalists must be at least 1: a fit refines its best coarse pose".into());
     }
     Ok(())
 }

@@ -390,6 +390,7 @@ mod tests {
                 factor: FACTOR,
                 period: std::f64::consts::PI,
                 finalist_margin: f64::INFINITY,
+                finalists: fit::FINALISTS,
             },
             min_confidence: 0.5,
             min_visible: 0.25,

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use crate::detect::{DetectError, DetectParams, Phases, detect_report};
+use crate::detect::{DetectError, DetectParams, Phases, Shortcuts, detect_report};
 use crate::packing::{PackedFrame, Packing};
 use crate::render::{Style, render};
 use crate::{Frame, GrainShape};
@@ -44,6 +44,8 @@ pub struct Case {
     pub px_per_mm: f64,
     pub style_name: &'static str,
     pub seed: u64,
+    /// What the detector leaves out (none by default).
+    pub shortcuts: Shortcuts,
 }
 
 /// Result of one photograph.
@@ -83,7 +85,9 @@ pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectErro
     let photo = render(&packed.grains, &frame, &style, case.seed).to_image(16);
     let render_seconds = start.elapsed().as_secs_f64();
     // The defaults of this shape (not `Default`'s, which are the nuts').
-    let params = DetectParams::new(case.shape, frame.scale);
+    let params = case
+        .shortcuts
+        .apply(DetectParams::new(case.shape, frame.scale));
     let start = Instant::now();
     let report = detect_report(&photo, &params)?;
     let detect_seconds = start.elapsed().as_secs_f64();

@@ -60,6 +60,7 @@ impl Scene {
                 factor: FACTOR as f64,
                 period: std::f64::consts::PI,
                 finalist_margin: f64::INFINITY,
+                finalists: fit::FINALISTS,
             },
             model: &self.model,
             min_confidence: 0.5,
