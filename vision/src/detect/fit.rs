@@ -97,7 +97,9 @@ pub fn fit(
     // be sought among them), each with its place in the order tried.
     let mut tried: Vec<(f32, usize, Pose)> = Vec::with_capacity(angles.len() * offsets.len());
     let mut given_up: Vec<(usize, Pose)> = Vec::new();
-    let mut witnesses = Witnesses::new(levels.finalists);
+    // The finalists picked: `DetectParams` refuses none, a `Levels` built elsewhere gets one.
+    let wanted = levels.finalists.max(1);
+    let mut witnesses = Witnesses::new(wanted);
     let on_coarse = |p: Pose| Pose {
         x: p.x / f,
         y: p.y / f,
@@ -136,7 +138,6 @@ pub fn fit(
     }
     // Best first; on ties the pose tried first (the sort is stable).
     tried.sort_by(|a, b| b.0.total_cmp(&a.0));
-    let wanted = levels.finalists.max(1);
     let mut finalists: Vec<Pose> = Vec::with_capacity(wanted + 1);
     for &(_, _, p) in &tried {
         let far = finalists
@@ -466,7 +467,7 @@ impl Witnesses {
         Witnesses {
             best: Vec::with_capacity(WITNESS_POOL + 1),
             threshold: f32::NEG_INFINITY,
-            finalists: finalists.max(1),
+            finalists,
         }
     }
 
