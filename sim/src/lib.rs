@@ -16,7 +16,7 @@ pub mod pipeline;
 pub mod query;
 pub mod shape;
 
-pub use dynamics::{ContactLaw, Wall};
+pub use dynamics::{ContactLaw, PlateFriction, Wall};
 pub use error::{ShapeError, SimError};
 pub use math::Vec2;
 pub use pipeline::{

@@ -55,6 +55,10 @@ pub struct RunRecord {
     pub floor_load_n: [f64; 2],
     pub left_wall_load_n: [f64; 2],
     pub right_wall_load_n: [f64; 2],
+    /// Force the grains exert on the plates of a quasi-2D cell, [x, y] (N); zero without
+    /// `[plates]` friction.
+    #[serde(default)]
+    pub plate_load_n: [f64; 2],
     /// Deepest overlap of any grain-grain or grain-wall sub-contact at the end (mm).
     pub deepest_overlap_mm: f64,
 }

@@ -332,6 +332,10 @@ pub fn fill_with(
         floor_load_n: [loads[FLOOR].x, loads[FLOOR].y],
         left_wall_load_n: [loads[LEFT_WALL].x, loads[LEFT_WALL].y],
         right_wall_load_n: [loads[RIGHT_WALL].x, loads[RIGHT_WALL].y],
+        plate_load_n: {
+            let p = world.plate_load();
+            [p.x, p.y]
+        },
         deepest_overlap_mm: world.contacts().map(|c| c.overlap).fold(0.0, f64::max) * 1e3,
     };
     record.wall_time_s = st.wall_time_before + start.elapsed().as_secs_f64();
@@ -431,7 +435,7 @@ pub(crate) fn free_surface(silo: &Silo) -> f64 {
 fn load_imbalance(silo: &Silo) -> f64 {
     let gravity = silo.world.settings().gravity;
     let mass = silo.deposit_mass();
-    let load: Vec2 = silo.wall_loads().iter().sum();
+    let load: Vec2 = silo.wall_loads().iter().sum::<Vec2>() + silo.world.plate_load();
     (load - gravity * mass).norm() / (mass * gravity.norm())
 }
 

@@ -2,7 +2,7 @@ use anyhow::Context;
 use sim::{ShapeId, Spheropolygon, Vec2, Wall, World, WorldSettings};
 
 use super::feeder::{Feeder, Rain};
-use super::walls::lay_grain_walls;
+use super::walls::{lay_grain_walls, lay_rough_walls};
 use crate::scene::{Insertion, Scene, WallKind};
 
 /// Wall indices in the world, in the order they are added.
@@ -38,6 +38,8 @@ impl Silo {
             law: scene.contact.law(),
             gravity: Vec2::new(0.0, -scene.contact.gravity_m_s2),
             time_step: scene.run.time_step_s,
+            wall_friction: scene.contact.wall_friction,
+            plate_friction: scene.plates.friction_model(),
             ..WorldSettings::default()
         })
         .context("in the scene's [contact] or [run] section")?;
@@ -70,6 +72,14 @@ impl Silo {
             WallKind::Grains => {
                 lay_grain_walls(&mut world, shape, [g.length(), g.width()], width, height)?
             }
+            WallKind::Rough => lay_rough_walls(
+                &mut world,
+                shape,
+                [g.length(), g.width(), g.rounding() * g.width()],
+                [width, height],
+                scene.silo.roughness_mm.map_or(g.width(), |r| r * mm),
+                seed,
+            )?,
         };
         let band_height = scene.feed.band_height_mm.map_or(8.0 * reach, |h| h * mm);
         let feeder = Feeder::new(

@@ -18,6 +18,8 @@ pub struct Scene {
     #[serde(default)]
     pub run: RunSection,
     #[serde(default)]
+    pub plates: PlatesSection,
+    #[serde(default)]
     pub model: ModelSection,
     #[serde(default)]
     pub output: OutputSection,
@@ -32,8 +34,14 @@ pub struct SiloSection {
     /// Height of the side walls (mm); a deposit reaching above it is reported as overflowing.
     pub height_mm: f64,
     /// How the floor and side walls are built: "flat" (half-planes with the grains' contact
-    /// law) or "grains" (fixed grains of the scene's shape laid edge to edge, as the paper).
+    /// law), "grains" (fixed grains of the scene's shape laid edge to edge: flat faces) or
+    /// "rough" (fixed grains of the scene's shape at random orientations and set back by random
+    /// depths up to `roughness_mm`, a wall of fixed particles as the paper's).
     pub walls: WallKind,
+    /// "rough" walls only: the largest depth by which a wall grain is set back behind the
+    /// wall's line (mm, >= 0). Default: the grain's width D. Zero still leaves the unevenness
+    /// of grains at random orientations (their corners).
+    pub roughness_mm: Option<f64>,
 }
 
 impl Default for SiloSection {
@@ -42,6 +50,7 @@ impl Default for SiloSection {
             width_mm: 256.0,
             height_mm: 750.0,
             walls: WallKind::Flat,
+            roughness_mm: None,
         }
     }
 }
@@ -54,6 +63,9 @@ pub enum WallKind {
     /// Floor and side walls are rows of fixed grains of the scene's shape, long side along the
     /// wall, their inner faces on the silo's outline (x = 0, x = W, y = 0).
     Grains,
+    /// Floor and side walls are fixed grains of the scene's shape at random orientations, set
+    /// back behind the silo's outline by random depths up to `roughness_mm`.
+    Rough,
 }
 
 /// Grain kinds as written in scenes (the names of the command line).
@@ -185,8 +197,12 @@ pub struct ContactSection {
     /// gamma_T (1/s).
     #[serde(rename = "tangential_damping_1_s")]
     pub tangential_damping: f64,
-    /// Coulomb friction coefficient mu (dimensionless), grains and walls alike.
+    /// Coulomb friction coefficient mu (dimensionless) between grains, and between grains and
+    /// walls unless `wall_friction` is given.
     pub friction: f64,
+    /// Coulomb friction coefficient between a grain and the floor or a side wall, flat or built
+    /// of fixed grains (dimensionless). Default: `friction`.
+    pub wall_friction: Option<f64>,
     /// Acceleration of gravity (m/s^2), pointing down.
     pub gravity_m_s2: f64,
 }
@@ -200,6 +216,7 @@ impl Default for ContactSection {
             normal_damping: law.normal_damping,
             tangential_damping: law.tangential_damping,
             friction: law.friction,
+            wall_friction: None,
             gravity_m_s2: 10.0,
         }
     }
@@ -213,6 +230,51 @@ impl ContactSection {
             normal_damping: self.normal_damping,
             tangential_damping: self.tangential_damping,
             friction: self.friction,
+        }
+    }
+}
+
+/// `[plates]`: friction of the glass plates in front of and behind the experiment's
+/// quasi-2D cell on every grain sliding between them. Off by default: the study's simulations
+/// are two-dimensional.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct PlatesSection {
+    /// "none", "coulomb" (dry friction: `friction` times a normal load of `load_fraction` of
+    /// the grain's weight, with the contact law's tangential spring and damper, so it also
+    /// holds a grain at rest) or "viscous" (a force -`drag_per_s` m v).
+    pub law: PlateLaw,
+    /// Coulomb coefficient between a grain and the plates (dimensionless), "coulomb" only.
+    pub friction: Option<f64>,
+    /// Normal load pressing a grain on the plates as a fraction of its weight
+    /// (dimensionless), "coulomb" only: a grain tilted between the plates or wedged by its
+    /// neighbours presses on them; nothing in a 2D model sets how hard.
+    pub load_fraction: Option<f64>,
+    /// Rate of the viscous law (1/s), "viscous" only.
+    pub drag_per_s: Option<f64>,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum PlateLaw {
+    #[default]
+    None,
+    Coulomb,
+    Viscous,
+}
+
+impl PlatesSection {
+    /// The engine's plate friction (`None` for "none"); the scene must have been validated.
+    pub fn friction_model(&self) -> Option<sim::PlateFriction> {
+        match self.law {
+            PlateLaw::None => None,
+            PlateLaw::Coulomb => Some(sim::PlateFriction::Coulomb {
+                coefficient: self.friction.unwrap_or(0.0),
+                load_fraction: self.load_fraction.unwrap_or(0.0),
+            }),
+            PlateLaw::Viscous => Some(sim::PlateFriction::Viscous {
+                rate: self.drag_per_s.unwrap_or(0.0),
+            }),
         }
     }
 }

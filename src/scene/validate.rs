@@ -1,4 +1,4 @@
-use super::{Insertion, Scene};
+use super::{Insertion, PlateLaw, Scene, WallKind};
 
 /// A value that parses but makes no sense, with where it lives.
 pub struct Invalid {
@@ -61,6 +61,16 @@ fn criterion(section: &'static str, key: &'static str, v: f64, unit: &str) -> Re
 pub fn validate(s: &Scene) -> Result<(), Invalid> {
     positive("silo", "width_mm", s.silo.width_mm, "mm")?;
     positive("silo", "height_mm", s.silo.height_mm, "mm")?;
+    if let Some(r) = s.silo.roughness_mm {
+        non_negative("silo", "roughness_mm", r, "mm")?;
+        if s.silo.walls != WallKind::Rough {
+            return Err(invalid(
+                "silo",
+                "roughness_mm",
+                "is set, but walls is not \"rough\"".into(),
+            ));
+        }
+    }
 
     let g = &s.grains;
     if g.count == 0 {
@@ -163,6 +173,10 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
     )?;
     non_negative("contact", "friction", c.friction, "dimensionless")?;
     positive("contact", "gravity_m_s2", c.gravity_m_s2, "m/s^2")?;
+    if let Some(mu) = c.wall_friction {
+        non_negative("contact", "wall_friction", mu, "dimensionless")?;
+    }
+    validate_plates(s)?;
 
     let r = &s.run;
     let m = &s.model;
@@ -230,6 +244,42 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
     }
     if let Some(every) = s.output.checkpoint_every_s {
         positive("output", "checkpoint_every_s", every, "s of simulated time")?;
+    }
+    Ok(())
+}
+
+/// The `[plates]` fields its law needs, and none it would ignore.
+fn validate_plates(s: &Scene) -> Result<(), Invalid> {
+    let p = &s.plates;
+    let given = [
+        ("friction", p.friction),
+        ("load_fraction", p.load_fraction),
+        ("drag_per_s", p.drag_per_s),
+    ];
+    let needed: &[&str] = match p.law {
+        PlateLaw::None => &[],
+        PlateLaw::Coulomb => &["friction", "load_fraction"],
+        PlateLaw::Viscous => &["drag_per_s"],
+    };
+    for (key, value) in given {
+        match (needed.contains(&key), value) {
+            (true, Some(v)) => non_negative("plates", key, v, "see the scene reference")?,
+            (true, None) => {
+                return Err(invalid(
+                    "plates",
+                    key,
+                    format!("is missing: law {:?} needs it", p.law),
+                ));
+            }
+            (false, Some(_)) => {
+                return Err(invalid(
+                    "plates",
+                    key,
+                    format!("is set, but law {:?} does not use it", p.law),
+                ));
+            }
+            (false, None) => {}
+        }
     }
     Ok(())
 }

@@ -5,6 +5,7 @@ use super::contacts::{Incidence, Kinematics, PairContact, carry_over};
 use super::sleep::Dormancy;
 use super::world::World;
 use crate::broad_phase::moved_past_half_skin;
+use crate::dynamics::ContactLaw;
 use crate::error::SimError;
 use crate::math::{Vec2, rotate};
 use crate::query::{
@@ -356,8 +357,9 @@ impl World {
                         let reach = this.reach[i] + this.reach[j];
                         let g = &this.grains;
                         let centres = (g.position[i] - g.position[j]).norm_squared();
+                        let law = this.law_between(i, j);
                         if centres >= reach * reach {
-                            contact.clear(&this.settings.law, would_be);
+                            contact.clear(law, would_be);
                             contact.apart_until = apart_until(travelled, centres.sqrt() - reach);
                             *push = Push::default();
                             return;
@@ -366,7 +368,7 @@ impl World {
                         let previous = || contact.subs.iter().map(|s| s.features);
                         core_core_sub_contacts(&first, &second, previous, &mut found);
                         let kinematics = (this.kinematics(i), this.kinematics(j));
-                        resolve(contact, &found, kinematics, this, would_be);
+                        resolve(contact, &found, kinematics, law, this.dt, would_be);
                         if found.is_empty() {
                             let cutoff = first.radius + second.radius;
                             let gap = core_core_separation(&first, &second) - cutoff;
@@ -393,7 +395,7 @@ impl World {
                         let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                         core_wall_sub_contacts(&core, wall, &mut found);
                         let kinematics = (this.kinematics(i), Kinematics::STATIC);
-                        resolve(contact, &found, kinematics, this, |f| {
+                        resolve(contact, &found, kinematics, &this.wall_law, this.dt, |f| {
                             wall_feature_overlap(&core, wall, f)
                         });
                         *push = Push::of(contact);
@@ -402,6 +404,9 @@ impl World {
             rayon::join(pairs, walls);
         }
         let gravity = self.settings.gravity;
+        let (law, plates) = (&self.settings.law, self.settings.plate_friction);
+        // The plates' spring stretches over a whole step; priming only reads it.
+        let plate_dt = if kick.is_some() { self.dt } else { 0.0 };
         let (pairs, walls, mobile) = (&self.pair_incidence, &self.wall_incidence, &self.mobile);
         let arm = &self.arm;
         let decay = self.drag_decay(kick.unwrap_or(0.0));
@@ -437,12 +442,13 @@ impl World {
             watched,
             quiet_steps,
             anchor,
+            &mut self.plate_slip,
         )
             .into_par_iter()
             .with_min_len(self.min_len)
             .enumerate()
             .map(
-                |(i, (force, torque, v, w, awake, watched, quiet_steps, anchor))| {
+                |(i, (force, torque, v, w, awake, watched, quiet_steps, anchor, slip))| {
                     // A sleeping grain's forces change only through awake neighbours.
                     if mobile[i] && !(*awake || *watched) {
                         return false;
@@ -465,6 +471,12 @@ impl World {
                             let c = &wall_push[k as usize];
                             f += c.force;
                             t += c.torque_first;
+                        }
+                        if let Some(plates) = &plates {
+                            let (push, stretch) =
+                                plates.force(law, mass[i], gravity_norm, *v, *slip, plate_dt);
+                            f += push;
+                            *slip = stretch;
                         }
                     }
                     *force = f;
@@ -567,14 +579,14 @@ fn resolve(
     contact: &mut PairContact,
     found: &[SubContact],
     (first, second): (Kinematics, Kinematics),
-    world: &World,
+    law: &ContactLaw,
+    dt: f64,
     would_be_overlap: impl Fn(Features) -> f64,
 ) {
-    let law = &world.settings.law;
     if found.is_empty() {
         contact.clear(law, would_be_overlap);
     } else {
-        contact.resolve(found, &first, &second, law, world.dt, would_be_overlap);
+        contact.resolve(found, &first, &second, law, dt, would_be_overlap);
     }
 }
 

@@ -5,7 +5,7 @@ use super::energy::Energies;
 use super::sleep::Dormancy;
 use super::time_step::{critical_time_step, default_time_step};
 use crate::broad_phase::VerletList;
-use crate::dynamics::{ContactLaw, Grains, Wall};
+use crate::dynamics::{ContactLaw, Grains, PlateFriction, Wall};
 use crate::error::SimError;
 use crate::math::Vec2;
 use crate::query::{SubContact, core_core_sub_contacts, core_wall_sub_contacts};
@@ -22,6 +22,13 @@ pub struct WorldSettings {
     pub time_step: Option<f64>,
     /// Verlet skin as a fraction of the smallest grain's bounding radius.
     pub skin_fraction: f64,
+    /// Coulomb coefficient between a grain and a wall or fixed grain. `None`: the law's
+    /// `friction`, as between two grains. Walls of another material than the grains (the
+    /// experiment's steel walls against steel nuts, or a lined wall) have their own.
+    pub wall_friction: Option<f64>,
+    /// Friction of the plates in front of and behind a quasi-2D cell on every mobile grain;
+    /// `None` for a truly two-dimensional system.
+    pub plate_friction: Option<PlateFriction>,
 }
 
 impl Default for WorldSettings {
@@ -31,6 +38,8 @@ impl Default for WorldSettings {
             gravity: Vec2::new(0.0, -10.0),
             time_step: None,
             skin_fraction: 0.2,
+            wall_friction: None,
+            plate_friction: None,
         }
     }
 }
@@ -75,6 +84,9 @@ pub(crate) struct ShapeEntry {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct World {
     pub(crate) settings: WorldSettings,
+    /// The contact law between a grain and a wall or fixed grain: the grains' law with the
+    /// walls' friction.
+    pub(crate) wall_law: ContactLaw,
     pub(crate) shapes: Vec<ShapeEntry>,
     pub(crate) grains: Grains,
     pub(crate) walls: Vec<Wall>,
@@ -96,6 +108,9 @@ pub struct World {
     /// growing step by step): a pair found apart by a gap need not be looked at again until
     /// its two grains have together travelled that far.
     pub(crate) travel: Vec<f64>,
+    /// Each grain's slip against the plates of a quasi-2D cell (m; the stretch of the plates'
+    /// friction spring, zero without plate friction).
+    pub(crate) plate_slip: Vec<Vec2>,
     pub(crate) skin: f64,
     pub(crate) verlet: VerletList,
     pub(crate) pair_contacts: Vec<PairContact>,
@@ -146,6 +161,18 @@ impl World {
                 });
             }
         }
+        if let Some(mu) = settings.wall_friction {
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(SimError::BadParameter {
+                    field: "wall_friction",
+                    value: mu,
+                    expected: "expected a finite number >= 0",
+                });
+            }
+        }
+        if let Some(plates) = &settings.plate_friction {
+            plates.validate()?;
+        }
         if !(settings.skin_fraction.is_finite() && settings.skin_fraction > 0.0) {
             return Err(SimError::BadParameter {
                 field: "skin_fraction",
@@ -153,8 +180,13 @@ impl World {
                 expected: "expected a positive fraction of the grain's reach",
             });
         }
+        let wall_law = ContactLaw {
+            friction: settings.wall_friction.unwrap_or(settings.law.friction),
+            ..settings.law
+        };
         Ok(Self {
             settings,
+            wall_law,
             shapes: Vec::new(),
             grains: Grains::default(),
             walls: Vec::new(),
@@ -169,6 +201,7 @@ impl World {
             arm: Vec::new(),
             mobile: Vec::new(),
             travel: Vec::new(),
+            plate_slip: Vec::new(),
             skin: f64::INFINITY,
             verlet: VerletList::default(),
             pair_contacts: Vec::new(),
@@ -291,6 +324,7 @@ impl World {
             .push(entry.shape.bounding_radius() - entry.shape.radius());
         self.mobile.push(mobile);
         self.travel.push(0.0);
+        self.plate_slip.push(Vec2::zeros());
         self.dormancy.push(mobile, state.position, state.angle);
         let i = self.grains.len() - 1;
         self.place_core(i);
@@ -507,6 +541,40 @@ impl World {
                 records(*i as usize, Body::Wall(*k as usize), c, found)
             });
         pairs.chain(walls)
+    }
+
+    /// The contact law between grains `i` and `j`: a fixed grain is part of a wall.
+    #[inline]
+    pub(crate) fn law_between(&self, i: usize, j: usize) -> &ContactLaw {
+        if self.mobile[i] && self.mobile[j] {
+            &self.settings.law
+        } else {
+            &self.wall_law
+        }
+    }
+
+    /// Total force the grains exert on the plates of a quasi-2D cell (zero without plate
+    /// friction): what the plates' friction holds of the grains' weight.
+    pub fn plate_load(&self) -> Vec2 {
+        let Some(plates) = &self.settings.plate_friction else {
+            return Vec2::zeros();
+        };
+        let g = &self.grains;
+        let gravity = self.settings.gravity.norm();
+        (0..g.len())
+            .filter(|&i| self.mobile[i])
+            .map(|i| {
+                let (push, _) = plates.force(
+                    &self.settings.law,
+                    g.mass[i],
+                    gravity,
+                    g.velocity[i],
+                    self.plate_slip[i],
+                    0.0,
+                );
+                -push
+            })
+            .sum()
     }
 
     /// Total force the grains exert on wall `k`.

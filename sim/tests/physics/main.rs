@@ -10,6 +10,7 @@ mod drag;
 mod energy;
 mod impacts;
 mod inputs;
+mod plates;
 mod resting;
 mod sleeping;
 mod slope;
