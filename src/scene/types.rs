@@ -33,10 +33,12 @@ pub struct SiloSection {
     pub width_mm: f64,
     /// Height of the side walls (mm); a deposit reaching above it is reported as overflowing.
     pub height_mm: f64,
-    /// How the floor and side walls are built: "flat" (half-planes with the grains' contact
-    /// law), "grains" (fixed grains of the scene's shape laid edge to edge: flat faces) or
-    /// "rough" (fixed grains of the scene's shape at random orientations and set back by random
-    /// depths up to `roughness_mm`, a wall of fixed particles as the paper's).
+    /// How the floor and side walls are built: "rough" (the default: fixed grains of the
+    /// scene's shape at random orientations, set back by random depths up to `roughness_mm`,
+    /// walls of fixed particles as the study's), "flat" (half-planes with the grains' contact
+    /// law) or "grains" (fixed grains of the scene's shape laid edge to edge: flat faces).
+    /// A flat wall holds a grain by friction alone, a rough one also by the slopes of its
+    /// grains' faces: the deposit's load on the walls depends on it (docs/model.md).
     pub walls: WallKind,
     /// "rough" walls only: the largest depth by which a wall grain is set back behind the
     /// wall's line (mm, >= 0). Default: the grain's width D. Zero still leaves the unevenness
@@ -49,7 +51,7 @@ impl Default for SiloSection {
         Self {
             width_mm: 256.0,
             height_mm: 750.0,
-            walls: WallKind::Flat,
+            walls: WallKind::Rough,
             roughness_mm: None,
         }
     }
