@@ -110,7 +110,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     measuring.finish_and_clear();
     let runs = &outcome.runs;
     if !runs.stopped.is_empty() {
-        let files: Vec<String> = runs.stopped.iter().map(|p| p.display().to_string()).collect();
+        let files: Vec<String> = runs
+            .stopped
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
         eprintln!(
             "interrupted; checkpoints {}\nthe same command resumes them",
             files.join(" ")

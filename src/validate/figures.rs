@@ -12,7 +12,11 @@ pub const PRESSURE_FIGURE: &str = "pressure_over_overburden.png";
 pub const LOAD_FIGURE: &str = "load_shares.png";
 
 /// Writes both figures (PNG with a CSV of their numbers) into `dir`; returns the PNGs.
-pub fn write_figures(dir: &Path, study: &Study, stats: &[CaseStats]) -> anyhow::Result<Vec<PathBuf>> {
+pub fn write_figures(
+    dir: &Path,
+    study: &Study,
+    stats: &[CaseStats],
+) -> anyhow::Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir)?;
     let measured = || stats.iter().filter(|s| s.seeds_measured > 0);
     let mut series: Vec<Series> = measured()
@@ -35,7 +39,12 @@ pub fn write_figures(dir: &Path, study: &Study, stats: &[CaseStats]) -> anyhow::
         .collect();
     let depth = series
         .iter()
-        .flat_map(|s| s.x.iter().zip(&s.y).filter(|(_, y)| y.is_finite()).map(|(x, _)| *x))
+        .flat_map(|s| {
+            s.x.iter()
+                .zip(&s.y)
+                .filter(|(_, y)| y.is_finite())
+                .map(|(x, _)| *x)
+        })
         .fold(PROFILE_STEP_OVER_W, f64::max);
     series.push(Series {
         label: "overburden".into(),

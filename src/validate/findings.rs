@@ -58,7 +58,11 @@ impl Finding {
     /// Not reproduced when a check fails; reproduced when every check passes; else not
     /// measured.
     pub fn verdict(&self) -> Verdict {
-        if self.checks.iter().any(|c| c.verdict == Verdict::NotReproduced) {
+        if self
+            .checks
+            .iter()
+            .any(|c| c.verdict == Verdict::NotReproduced)
+        {
             Verdict::NotReproduced
         } else if self.checks.iter().all(|c| c.verdict == Verdict::Reproduced) {
             Verdict::Reproduced

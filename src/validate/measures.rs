@@ -287,7 +287,8 @@ fn orientation(shape: Shape, thetas: &[f64], v: &mut [f64]) {
     }
     let n = thetas.len() as f64;
     let window = WINDOW_DEG.to_radians();
-    let share = |inside: &dyn Fn(f64) -> bool| thetas.iter().filter(|&&t| inside(t)).count() as f64 / n;
+    let share =
+        |inside: &dyn Fn(f64) -> bool| thetas.iter().filter(|&&t| inside(t)).count() as f64 / n;
     if shape == Shape::Square {
         let folded = |t: f64| fold_angle(t, FRAC_PI_2);
         v[Q::DiagonalShare.index()] = share(&|t| (folded(t) - FRAC_PI_2 / 2.0).abs() <= window);
@@ -402,11 +403,22 @@ mod tests {
         let mut v = vec![f64::NAN; Q::ALL.len()];
         // Squares: two at 45 degrees, one flat (at 88 = -2), one at 20 (neither).
         let deg = |d: f64| d.to_radians();
-        orientation(Shape::Square, &[deg(45.0), deg(50.0), deg(88.0), deg(20.0)], &mut v);
+        orientation(
+            Shape::Square,
+            &[deg(45.0), deg(50.0), deg(88.0), deg(20.0)],
+            &mut v,
+        );
         assert_eq!(v[Q::DiagonalShare.index()], 0.5);
         assert_eq!(v[Q::FlatShare.index()], 0.25);
         // Rods: 150 degrees is 30 from the horizontal; 95 is vertical; 5 and 178 horizontal.
-        let rods = [deg(150.0), deg(31.0), deg(33.0), deg(95.0), deg(5.0), deg(178.0)];
+        let rods = [
+            deg(150.0),
+            deg(31.0),
+            deg(33.0),
+            deg(95.0),
+            deg(5.0),
+            deg(178.0),
+        ];
         orientation(Shape::LongRod, &rods, &mut v);
         assert_eq!(v[Q::HorizontalShare.index()], 2.0 / 6.0);
         assert_eq!(v[Q::VerticalShare.index()], 1.0 / 6.0);

@@ -14,10 +14,10 @@
 pub mod figures;
 pub mod findings;
 pub mod measures;
+pub mod report;
 pub mod results;
 pub mod run;
 pub mod study;
-pub mod report;
 
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
@@ -50,7 +50,10 @@ pub struct Options {
 pub enum Progress<'a> {
     Run(&'a Job, RunEvent),
     /// Realisations measured so far, of the total.
-    Measured { done: usize, total: usize },
+    Measured {
+        done: usize,
+        total: usize,
+    },
 }
 
 /// How it went.
@@ -203,7 +206,12 @@ fn command(options: &Options) -> String {
 fn newest_run_date(done: &[&Job]) -> Option<String> {
     let newest = done
         .iter()
-        .filter_map(|j| std::fs::metadata(j.dir.join("run.json")).ok()?.modified().ok())
+        .filter_map(|j| {
+            std::fs::metadata(j.dir.join("run.json"))
+                .ok()?
+                .modified()
+                .ok()
+        })
         .max()?;
     let secs = newest.duration_since(std::time::UNIX_EPOCH).ok()?.as_secs();
     let (y, m, d) = civil_date((secs / 86_400) as i64);

@@ -59,7 +59,10 @@ pub fn render(
         } else {
             String::new()
         },
-        provenance.date.as_deref().unwrap_or("no date (no run measured)")
+        provenance
+            .date
+            .as_deref()
+            .unwrap_or("no date (no run measured)")
     );
     let verdicts: Vec<String> = findings
         .iter()
@@ -119,7 +122,11 @@ fn cases_table(md: &mut String, study: &Study, stats: &[CaseStats]) {
             k + 1,
             case.name,
             case.scene_file,
-            if case.overridden { " (with overrides)" } else { "" },
+            if case.overridden {
+                " (with overrides)"
+            } else {
+                ""
+            },
             grains(case),
             case.scene.feed.phi0,
             case.scene.silo.width_mm,
@@ -218,7 +225,9 @@ fn groups(md: &mut String, study: &Study, stats: &[CaseStats]) {
                 rule.push_str("---|---|");
             }
             let _ = writeln!(md, "{header}\n{rule}");
-            let shape = base.shape.or_else(|| mine.iter().find_map(|&v| stats[v].shape));
+            let shape = base
+                .shape
+                .or_else(|| mine.iter().find_map(|&v| stats[v].shape));
             for q in Q::ALL {
                 if shape.is_some_and(|s| !q.applies(s)) {
                     continue;

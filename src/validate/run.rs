@@ -34,9 +34,13 @@ pub enum RunEvent {
     /// Found done; not run again.
     Reused,
     /// Filling starts (`resumed`: from a checkpoint).
-    Started { resumed: bool },
+    Started {
+        resumed: bool,
+    },
     Filling(FillProgress),
-    Finished { relaxed: bool },
+    Finished {
+        relaxed: bool,
+    },
     /// Stopped by the interrupt; a checkpoint continues it.
     Stopped,
 }

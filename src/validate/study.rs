@@ -189,8 +189,12 @@ fn read_case(entry: CaseEntry, file: &str, dir: &Path) -> anyhow::Result<Case> {
             entry.scene
         );
     }
-    let scene_text = std::fs::read_to_string(&scene_path)
-        .with_context(|| format!("{file}: case `{name}`: cannot read {}", scene_path.display()))?;
+    let scene_text = std::fs::read_to_string(&scene_path).with_context(|| {
+        format!(
+            "{file}: case `{name}`: cannot read {}",
+            scene_path.display()
+        )
+    })?;
     let (scene, scene_toml) = match &entry.overrides {
         None => {
             let scene = parse_scene(&scene_text, &scene_path.display().to_string())
@@ -204,7 +208,10 @@ fn read_case(entry: CaseEntry, file: &str, dir: &Path) -> anyhow::Result<Case> {
             merge(&mut table, overrides);
             let merged = toml::to_string(&table)
                 .with_context(|| format!("{file}: case `{name}`: cannot write the merged scene"))?;
-            let label = format!("{} with the overrides of case `{name}`", scene_path.display());
+            let label = format!(
+                "{} with the overrides of case `{name}`",
+                scene_path.display()
+            );
             let scene = parse_scene(&merged, &label).with_context(|| {
                 format!("{file}: case `{name}`: field `overrides` gives a bad scene")
             })?;
@@ -323,7 +330,10 @@ friction = 0.6
         assert_eq!(wide.scene.silo.height_mm, base.scene.silo.height_mm);
         assert_eq!(wide.scene.grains.count, 50);
         assert_eq!(wide.scene.contact.friction, 0.6);
-        assert_eq!(base.scene.contact.friction, sim::ContactLaw::default().friction);
+        assert_eq!(
+            base.scene.contact.friction,
+            sim::ContactLaw::default().friction
+        );
         assert!(wide.is_variant() && !base.is_variant());
         assert_eq!(wide.group.as_deref(), Some("walls"));
         // The merged scene written beside a run reads back as the same scene.
@@ -349,7 +359,10 @@ friction = 0.6
         let case = "[[case]]\nname = \"a\"\nscene = \"scenes/s.toml\"\nseeds = 2\n";
         let err = |text: &str| parse(text, dir.path()).unwrap_err();
         let e = format!("{:#}", err(&format!("{case}colour = 3\n")));
-        assert!(e.starts_with("study.toml:5:") && e.contains("colour"), "{e}");
+        assert!(
+            e.starts_with("study.toml:5:") && e.contains("colour"),
+            "{e}"
+        );
         let e = format!("{:#}", err(&format!("title = 1\n{case}")));
         assert!(e.starts_with("study.toml:1:") && e.contains("title"), "{e}");
         let e = format!("{:#}", err(&case.replace("seeds = 2", "seeds = 0")));
@@ -364,7 +377,10 @@ friction = 0.6
             "{:#}",
             err(&format!("{case}[case.overrides.silo]\nwidht_mm = 100\n"))
         );
-        assert!(e.contains("overrides") && e.contains("silo.widht_mm"), "{e}");
+        assert!(
+            e.contains("overrides") && e.contains("silo.widht_mm"),
+            "{e}"
+        );
         let e = format!(
             "{:#}",
             err(&format!("{case}[case.overrides.feed]\nphi0 = 2.0\n"))
