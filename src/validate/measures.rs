@@ -398,6 +398,64 @@ mod tests {
         assert_eq!(names.len(), Q::ALL.len());
     }
 
+    fn stack_realisation(stack: &crate::deposit::SquareStack) -> Realisation {
+        let (deposit, contacts, meta) = stack.build(0.05);
+        Realisation {
+            name: "stack".into(),
+            deposit,
+            contacts: Some(contacts),
+            meta,
+            shape: Shape::Square,
+        }
+    }
+
+    #[test]
+    fn a_stack_of_columns_has_half_the_overburden_as_pressure_and_the_walls_their_friction() {
+        use crate::deposit::SquareStack;
+        // Columns carrying only their own weight: sigma_yy = -rho g h, sigma_xx = 0, so
+        // P = -trace/2 is half the overburden at every depth, and the profile never saturates.
+        let columns = SquareStack {
+            columns: 16,
+            rows: 60,
+            lateral: 0.0,
+            wall_friction: 0.0,
+            ..SquareStack::default()
+        };
+        let m =
+            measure_realisation(&stack_realisation(&columns), &AnalysisSection::default()).unwrap();
+        for q in [
+            Q::POverOverburden1,
+            Q::POverOverburden15,
+            Q::POverOverburden2,
+        ] {
+            assert!((m.get(q) - 0.5).abs() < 0.005, "{}: {}", q.name(), m.get(q));
+        }
+        assert_eq!(m.get(Q::JanssenSaturates), 0.0);
+        assert_eq!(m.get(Q::FloorShare), 1.0);
+        assert!((m.get(Q::PackingFraction) - 1.0).abs() < 1e-9);
+        assert_eq!((m.get(Q::FlatShare), m.get(Q::DiagonalShare)), (1.0, 0.0));
+        assert!(
+            m.get(Q::PreferredAngle).is_nan(),
+            "a rod quantity on squares"
+        );
+        // Walls squeezing the rows and holding mu_w of that by friction: their share of the
+        // weight is the sum of those frictions.
+        let squeezed = SquareStack {
+            columns: 16,
+            rows: 60,
+            ..SquareStack::default()
+        };
+        let weight = squeezed.grain_mass() * squeezed.gravity * (16.0 * 60.0);
+        let held: f64 = (0..60)
+            .map(|r| 2.0 * squeezed.wall_friction * squeezed.wall_normal(r))
+            .sum();
+        let m = measure_realisation(&stack_realisation(&squeezed), &AnalysisSection::default())
+            .unwrap();
+        assert!((m.get(Q::WallsShare) - held / weight).abs() < 1e-12);
+        assert!((m.get(Q::LeftWallShare) - m.get(Q::RightWallShare)).abs() < 1e-12);
+        assert!((m.get(Q::SupportOverWeight) - 1.0).abs() < 1e-12);
+    }
+
     #[test]
     fn angular_windows_and_the_mode() {
         let mut v = vec![f64::NAN; Q::ALL.len()];
