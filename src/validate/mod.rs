@@ -107,6 +107,9 @@ pub fn validate(
         return Ok(outcome);
     }
     let done: Vec<&Job> = jobs.iter().filter(|j| run::is_done(&j.dir)).collect();
+    for job in &done {
+        run::check_scene(&study.cases[job.case], job)?;
+    }
     let measured = measure_all(&study, &done, progress)?;
     outcome.measured = measured.len();
     std::fs::create_dir_all(&options.out)

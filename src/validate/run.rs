@@ -111,7 +111,8 @@ pub fn run_missing(
     Ok(summary)
 }
 
-fn check_scene(case: &Case, job: &Job) -> anyhow::Result<()> {
+/// Refuses a seed folder whose `scene.toml` is not the case's scene.
+pub fn check_scene(case: &Case, job: &Job) -> anyhow::Result<()> {
     let path = job.dir.join("scene.toml");
     match std::fs::read_to_string(&path) {
         Ok(text) if text != case.scene_toml => anyhow::bail!(
