@@ -16,3 +16,4 @@ pub mod photo;
 pub mod plot;
 pub mod reproduce;
 pub mod scene;
+pub mod validate;

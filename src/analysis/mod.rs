@@ -4,6 +4,7 @@
 
 pub mod coarse_grain;
 pub mod compare;
+pub mod load_share;
 pub mod orientation;
 pub mod pressure;
 pub mod rdf;

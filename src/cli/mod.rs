@@ -10,6 +10,7 @@ mod render;
 mod reproduce;
 mod shortcuts;
 mod sim;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -38,6 +39,7 @@ pub enum Command {
     /// packing), with its ground-truth table beside it.
     Render(render::Args),
     Reproduce(reproduce::Args),
+    Validate(validate::Args),
     /// Benchmarks: engine throughput and the other measured speed goals.
     #[command(subcommand)]
     Bench(bench::Bench),
@@ -52,6 +54,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Sim(args) => sim::run(args),
         Command::Render(args) => render::run(args),
         Command::Reproduce(args) => reproduce::run(args),
+        Command::Validate(args) => validate::run(args),
         Command::Bench(bench) => bench::run(bench),
     }
 }

@@ -1,0 +1,144 @@
+use std::collections::HashMap;
+use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use anyhow::Context;
+use clap::Args as ClapArgs;
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+
+use facets::validate::run::RunEvent;
+use facets::validate::{Options, Progress, validate};
+
+/// Run a study's cases as ensembles and judge them against the study's findings F1-F5.
+///
+/// The study file (TOML) lists `[[case]]` entries: `name`, `scene` (relative to the study
+/// file), `seeds` (a count from the scene's run.seed, or a list), and optionally
+/// `[case.overrides]` (merged into the scene: `[case.overrides.contact] friction = 0.6`),
+/// `group` and `baseline` (a variant reported beside its baseline case). Without --study:
+/// the built-in data-samples/studies/paper.toml (the paper-scale cases; hours of CPU).
+///
+/// Every seed not yet done is filled, in parallel, into OUT/CASE/seed-N/ (the files of
+/// `facets sim`, and scene.toml); seeds done are not run again, a checkpoint.bin is
+/// continued. Ctrl-C stops the runs with checkpoints (exit status 130); the same command
+/// resumes them. Then every seed is measured: OUT/results.csv and OUT/results.json (one row
+/// per case and seed), and the report (--report) with its figures in REPORT-STEM-figures/.
+#[derive(Debug, ClapArgs)]
+#[command(verbatim_doc_comment)]
+pub struct Args {
+    /// Study file (TOML); default: the built-in paper study.
+    #[arg(long)]
+    pub study: Option<PathBuf>,
+    /// Folder of the runs and the raw results.
+    #[arg(long, default_value = "runs/validate")]
+    pub out: PathBuf,
+    /// The report (markdown).
+    #[arg(long, default_value = "docs/validation.md")]
+    pub report: PathBuf,
+    /// Run nothing: measure the runs that exist and write the results and the report.
+    #[arg(long)]
+    pub report_only: bool,
+}
+
+/// Set by Ctrl-C: the runs stop at their next step boundary and write checkpoints.
+static INTERRUPT: AtomicBool = AtomicBool::new(false);
+
+pub fn run(args: Args) -> anyhow::Result<()> {
+    let options = Options {
+        study: args.study,
+        out: args.out,
+        report: args.report,
+        report_only: args.report_only,
+    };
+    if !options.report_only {
+        ctrlc::set_handler(|| {
+            if INTERRUPT.swap(true, Ordering::SeqCst) {
+                std::process::exit(130);
+            }
+        })
+        .context("cannot install the Ctrl-C handler")?;
+    }
+    let bars = MultiProgress::new();
+    let style = ProgressStyle::with_template(
+        "{prefix:>24} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
+    )
+    .unwrap_or_else(|_| ProgressStyle::default_bar())
+    .progress_chars("=> ");
+    let running: Mutex<HashMap<(String, u64), ProgressBar>> = Mutex::new(HashMap::new());
+    let measuring = bars.add(super::progress::bar(0, "measuring"));
+    let progress = |p: Progress| match p {
+        Progress::Run(job, event) => {
+            let key = (job.case_name.clone(), job.seed);
+            let Ok(mut running) = running.lock() else {
+                return;
+            };
+            match event {
+                RunEvent::Reused => {}
+                RunEvent::Started { resumed } => {
+                    let bar = bars.add(ProgressBar::new(1).with_style(style.clone()));
+                    bar.set_prefix(format!("{} seed {}", job.case_name, job.seed));
+                    if resumed {
+                        bar.set_message("resuming");
+                    }
+                    running.insert(key, bar);
+                }
+                RunEvent::Filling(f) => {
+                    if let Some(bar) = running.get(&key) {
+                        bar.set_length((f.expected_end.max(f.time) * 1e3) as u64);
+                        bar.set_position((f.time * 1e3) as u64);
+                        bar.set_message(if f.relaxing {
+                            format!("relaxing, kinetic/elastic {:.1e}", f.energy_ratio)
+                        } else {
+                            format!("{}/{} grains in", f.inserted, f.total)
+                        });
+                    }
+                }
+                RunEvent::Finished { .. } | RunEvent::Stopped => {
+                    if let Some(bar) = running.remove(&key) {
+                        bar.finish_and_clear();
+                        bars.remove(&bar);
+                    }
+                }
+            }
+        }
+        Progress::Measured { done, total } => {
+            measuring.set_length(total as u64);
+            measuring.set_position(done as u64);
+        }
+    };
+    let outcome = validate(&options, Some(&INTERRUPT), &progress)?;
+    measuring.finish_and_clear();
+    let runs = &outcome.runs;
+    if !runs.stopped.is_empty() {
+        let files: Vec<String> = runs
+            .stopped
+            .iter()
+            .map(|p| p.display().to_string())
+            .collect();
+        eprintln!(
+            "interrupted; checkpoints {}\nthe same command resumes them",
+            files.join(" ")
+        );
+        std::process::exit(130);
+    }
+    println!(
+        "{} seeds run, {} found done; {} of {} realisations measured; results in {}",
+        runs.ran,
+        runs.reused,
+        outcome.measured,
+        outcome.asked,
+        options.out.display()
+    );
+    for (case, seed) in &runs.unrelaxed {
+        eprintln!("warning: case `{case}` seed {seed} did not relax within its scene's time");
+    }
+    if let Some(report) = &outcome.report {
+        let verdicts: Vec<String> = outcome
+            .verdicts
+            .iter()
+            .map(|(id, v)| format!("{id} {}", v.text()))
+            .collect();
+        println!("report {}: {}", report.display(), verdicts.join(", "));
+    }
+    Ok(())
+}
