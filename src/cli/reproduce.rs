@@ -50,11 +50,17 @@ pub struct Args {
     pub out: PathBuf,
     /// Run only share K (from 0) of the plan's fillings, photographs and detections, the units
     /// k with k mod N = K; then `--collect`.
-    #[arg(long, value_name = "K", requires = "tasks", conflicts_with_all = ["collect", "slurm"])]
+    #[arg(
+        long,
+        value_name = "K",
+        requires = "tasks",
+        conflicts_with_all = ["collect", "slurm"],
+        allow_hyphen_values = true
+    )]
     pub task: Option<usize>,
     /// The number of shares (with --task, --slurm, or --collect to name the task of each
     /// missing unit). With --slurm, default one unit a task.
-    #[arg(long, value_name = "N")]
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
     pub tasks: Option<usize>,
     /// Analyse and report a plan whose shares are all done; names the missing units otherwise.
     #[arg(long, conflicts_with = "slurm")]
@@ -73,7 +79,12 @@ pub struct Args {
     #[arg(long, value_name = "N", requires = "slurm")]
     pub throttle: Option<usize>,
     /// An extra #SBATCH line for both jobs, e.g. --sbatch-line=--qos=long (repeatable).
-    #[arg(long, value_name = "OPTION", requires = "slurm", allow_hyphen_values = true)]
+    #[arg(
+        long,
+        value_name = "OPTION",
+        requires = "slurm",
+        allow_hyphen_values = true
+    )]
     pub sbatch_line: Vec<String>,
     /// Processors per array task (default: the units of a task, at most 4).
     #[arg(long, value_name = "N", requires = "slurm")]

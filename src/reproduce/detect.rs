@@ -95,7 +95,10 @@ fn detect_one(
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let overlay_path = table.with_file_name(format!(
         "{}_overlay.png",
-        table.file_stem().and_then(|s| s.to_str()).unwrap_or("photo")
+        table
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("photo")
     ));
     let scale = photo.px_per_mm * 1e3;
     let mut seconds = None;

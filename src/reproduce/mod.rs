@@ -79,9 +79,7 @@ pub fn reproduce_shard(
     let study = Study::prepare(plan, photos, out)?;
     let done = study.produce(Some(shard))?;
     Ok(ShardDone {
-        units: (0..study.units.len())
-            .filter(|&k| shard.takes(k))
-            .collect(),
+        units: (0..study.units.len()).filter(|&k| shard.takes(k)).collect(),
         of: study.units.len(),
         fillings_run: done.filled.iter().filter(|f| !f.reused).count(),
         fillings_reused: done.filled.iter().filter(|f| f.reused).count(),

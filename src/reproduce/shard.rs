@@ -146,7 +146,10 @@ pub fn missing(units: &[Unit], layout: &Layout) -> Vec<(usize, String)> {
     units
         .iter()
         .enumerate()
-        .filter_map(|(k, u)| u.missing(layout).map(|m| (k, format!("{}: {m}", u.describe()))))
+        .filter_map(|(k, u)| {
+            u.missing(layout)
+                .map(|m| (k, format!("{}: {m}", u.describe())))
+        })
         .collect()
 }
 

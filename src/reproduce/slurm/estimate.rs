@@ -8,7 +8,8 @@
 
 use std::path::Path;
 
-use crate::bench::engine::{BOX_WIDTH, DepositSpec, grid_scene, measure};
+use anyhow::Context;
+
 use crate::fill::Silo;
 use crate::grains::GrainKind;
 use crate::reproduce::plan::Plan;
@@ -18,9 +19,9 @@ use crate::scene::FrameChoice;
 
 /// Detector processor time per megapixel of photograph (s), on lab-style photographs of the
 /// three shapes (docs/results/cluster-estimates.md).
-pub const DETECT_CPU_SECONDS_PER_MEGAPIXEL: f64 = 4.0;
+pub const DETECT_CPU_SECONDS_PER_MEGAPIXEL: f64 = 6.0;
 /// Peak memory of a detection per pixel of photograph (bytes; same source).
-pub const DETECT_BYTES_PER_PIXEL: f64 = 150.0;
+pub const DETECT_BYTES_PER_PIXEL: f64 = 100.0;
 /// Memory of a filling per grain (bytes): the world, its contacts and neighbour lists, the
 /// deposit and contact tables; generous.
 pub const FILLING_BYTES_PER_GRAIN: f64 = 20_000.0;
@@ -127,12 +128,7 @@ pub fn unit_cost(plan: &Plan, unit: &Unit, rate: f64) -> anyhow::Result<UnitCost
 /// The resources of the largest of `tasks` tasks sharing `costs` round-robin, each on `cpus`
 /// processors (default: as many as its units, at most 4). A task runs its units `cpus` at a
 /// time; one unit is not assumed to run faster on several processors.
-pub fn resources(
-    costs: &[UnitCost],
-    tasks: usize,
-    cpus: Option<usize>,
-    rate: f64,
-) -> Resources {
+pub fn resources(costs: &[UnitCost], tasks: usize, cpus: Option<usize>, rate: f64) -> Resources {
     let per_task: Vec<Vec<UnitCost>> = (0..tasks)
         .map(|t| costs.iter().skip(t).step_by(tasks).copied().collect())
         .collect();
@@ -167,7 +163,7 @@ pub enum RateSource {
     Given,
     /// Fillings already done in the output folder (their run.json: grain-steps / wall time).
     Finished(usize),
-    /// Timed now on the engine benchmark's resting grid of squares, one thread.
+    /// Timed now on a small filling of the plan's first shape, one thread.
     Measured,
 }
 
@@ -198,21 +194,38 @@ pub fn rate_of_finished(fillings: &[Filling]) -> Option<(f64, usize)> {
     (n > 0 && steps > 0.0).then(|| (steps / seconds, n))
 }
 
-/// Times the engine on one thread: a grid of squares as `facets bench engine` builds it.
-pub fn measure_rate() -> anyhow::Result<f64> {
-    let spec = DepositSpec {
-        kind: GrainKind::Square,
-        grains: 400,
-        seed: 1,
-        width: BOX_WIDTH,
-    };
-    let time_step = 1e-6;
-    let world = grid_scene(&spec, time_step)?;
-    Ok(measure(&world, time_step, 3000, 1)?.grain_steps_per_second)
+/// Grains of the calibration filling: seconds on one processor.
+const CALIBRATION_GRAINS: usize = 40;
+
+/// Times a small filling of the plan's first shape and phi0 (its silo, [`CALIBRATION_GRAINS`]
+/// grains, a fifth of a second of relaxation) on one thread: its grain-steps per second.
+/// A small world pays the per-step costs over few grains, so the rate errs low.
+pub fn measure_rate(plan: &Plan) -> anyhow::Result<f64> {
+    let mut small = plan.clone();
+    small.max_relaxation_time_s = small.max_relaxation_time_s.min(0.2);
+    let mut shape = plan.shapes[0].clone();
+    shape.grains = CALIBRATION_GRAINS;
+    let phi0 = shape.phi0s[0];
+    let scene = small.scene(&shape, phi0)?;
+    let dir = tempfile::tempdir().context("cannot create a folder for the calibration filling")?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .context("cannot start the thread pool")?;
+    let record = pool.install(|| crate::fill::fill(&scene, 1, dir.path(), &mut |_| {}))?;
+    anyhow::ensure!(
+        record.wall_time_s > 0.0 && record.grain_steps > 0,
+        "the calibration filling recorded no work"
+    );
+    Ok(record.grain_steps as f64 / record.wall_time_s)
 }
 
 /// The rate to use: `given`, else that of fillings done under the output folder, else measured.
-pub fn engine_rate(given: Option<f64>, fillings: &[Filling]) -> anyhow::Result<(f64, RateSource)> {
+pub fn engine_rate(
+    plan: &Plan,
+    given: Option<f64>,
+    fillings: &[Filling],
+) -> anyhow::Result<(f64, RateSource)> {
     if let Some(r) = given {
         anyhow::ensure!(
             r.is_finite() && r > 0.0,
@@ -223,7 +236,7 @@ pub fn engine_rate(given: Option<f64>, fillings: &[Filling]) -> anyhow::Result<(
     if let Some((r, n)) = rate_of_finished(fillings) {
         return Ok((r, RateSource::Finished(n)));
     }
-    Ok((measure_rate()?, RateSource::Measured))
+    Ok((measure_rate(plan)?, RateSource::Measured))
 }
 
 /// Whether a path can stand in an `#SBATCH` line (Slurm does not unquote them).
@@ -245,7 +258,12 @@ mod tests {
     #[test]
     fn a_task_is_as_long_as_its_share_or_its_longest_unit() {
         // Units 0, 2 in task 0 (100 + 300 s), 1, 3 in task 1 (200 + 50 s).
-        let costs = [unit(100.0, 10.0), unit(200.0, 10.0), unit(300.0, 10.0), unit(50.0, 400.0)];
+        let costs = [
+            unit(100.0, 10.0),
+            unit(200.0, 10.0),
+            unit(300.0, 10.0),
+            unit(50.0, 400.0),
+        ];
         let r = resources(&costs, 2, Some(2), 1e6);
         assert_eq!(r.units_per_task, 2);
         assert_eq!(r.task_cpu_seconds, 400.0);

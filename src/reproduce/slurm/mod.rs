@@ -92,7 +92,10 @@ impl SlurmOptions {
         if let Some(n) = self.cpus_per_task {
             anyhow::ensure!(n >= 1, "--cpus-per-task {n}: expected at least 1");
         }
-        for (option, value) in [("--partition", &self.partition), ("--account", &self.account)] {
+        for (option, value) in [
+            ("--partition", &self.partition),
+            ("--account", &self.account),
+        ] {
             if let Some(v) = value {
                 anyhow::ensure!(
                     !v.is_empty() && !v.chars().any(|c| c.is_whitespace() || c == '#'),
@@ -198,7 +201,7 @@ pub fn scripts(
         RateSource::Given => "given".to_string(),
         RateSource::Finished(n) => format!("from {n} fillings done in the output folder"),
         RateSource::Measured => {
-            "measured when this script was written, on the engine benchmark's grid, one thread"
+            "measured when this script was written, on a small filling of the plan, one thread"
                 .to_string()
         }
     };
@@ -321,7 +324,8 @@ pub fn write_slurm(
     }
     let layout = Layout::new(&out);
     let fillings = simulate::fillings(plan, &layout, real.is_none())?;
-    let (rate, rate_source) = estimate::engine_rate(options.grain_steps_per_second, &fillings)?;
+    let (rate, rate_source) =
+        estimate::engine_rate(plan, options.grain_steps_per_second, &fillings)?;
     let units = shard::units(fillings, real);
     let tasks = options.tasks.unwrap_or(units.len());
     let costs = units
