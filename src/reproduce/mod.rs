@@ -164,7 +164,7 @@ impl<'a> Study<'a> {
         let mut real = Vec::new();
         for (_, unit) in self.units.iter().enumerate().filter(|(k, _)| mine(*k)) {
             match unit {
-                Unit::Filling(f) => fillings.push(f.clone()),
+                Unit::Filling(f) => fillings.push((**f).clone()),
                 Unit::Photo(p) => real.push(p.clone()),
             }
         }

@@ -45,7 +45,7 @@ impl Shard {
 #[derive(Clone, Debug)]
 pub enum Unit {
     /// A filling; on the photographed side, its photograph and detection too.
-    Filling(Filling),
+    Filling(Box<Filling>),
     /// A real photograph (`--photos`) to detect.
     Photo(Photo),
 }
@@ -113,7 +113,7 @@ impl Unit {
 pub fn units(fillings: Vec<Filling>, real: Option<Vec<Photo>>) -> Vec<Unit> {
     fillings
         .into_iter()
-        .map(Unit::Filling)
+        .map(|f| Unit::Filling(Box::new(f)))
         .chain(real.into_iter().flatten().map(Unit::Photo))
         .collect()
 }
