@@ -2,7 +2,8 @@ use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
 
-use facets::reproduce::{Plan, reproduce};
+use facets::reproduce::slurm::{SlurmOptions, write_slurm};
+use facets::reproduce::{Plan, Shard, collect, reproduce, reproduce_shard};
 
 /// Reproduce the whole study: simulations, stand-in photographs, detection, analysis, figures
 /// and a report.
@@ -16,6 +17,10 @@ use facets::reproduce::{Plan, reproduce};
 ///
 /// A stopped run continues where it stopped: fillings, photographs and detector tables that
 /// exist are not made again (a filling is done when its run.json says the same scene and seed).
+///
+/// Beyond one machine: `--task K --tasks N` runs the K-th of N shares of the fillings,
+/// photographs and detections (any split writes the same files); `--collect` then analyses
+/// and reports. `--slurm DIR` writes the scripts that do both on a Slurm cluster.
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
@@ -43,6 +48,51 @@ pub struct Args {
     /// Output folder (created if missing); report.md is written at its top.
     #[arg(long, default_value = "reproduce-out")]
     pub out: PathBuf,
+    /// Run only share K (from 0) of the plan's fillings, photographs and detections, the units
+    /// k with k mod N = K; then `--collect`.
+    #[arg(
+        long,
+        value_name = "K",
+        requires = "tasks",
+        conflicts_with_all = ["collect", "slurm"],
+        allow_hyphen_values = true
+    )]
+    pub task: Option<usize>,
+    /// The number of shares (with --task, --slurm, or --collect to name the task of each
+    /// missing unit). With --slurm, default one unit a task.
+    #[arg(long, value_name = "N", allow_hyphen_values = true)]
+    pub tasks: Option<usize>,
+    /// Analyse and report a plan whose shares are all done; names the missing units otherwise.
+    #[arg(long, conflicts_with = "slurm")]
+    pub collect: bool,
+    /// Write Slurm scripts into DIR: a job array of --tasks shares, a collect job that waits
+    /// for it, and submit.sh that submits both and prints their job ids.
+    #[arg(long, value_name = "DIR")]
+    pub slurm: Option<PathBuf>,
+    /// Slurm partition of both jobs.
+    #[arg(long, requires = "slurm")]
+    pub partition: Option<String>,
+    /// Slurm account of both jobs.
+    #[arg(long, requires = "slurm")]
+    pub account: Option<String>,
+    /// At most N array tasks at once (--array=...%N).
+    #[arg(long, value_name = "N", requires = "slurm")]
+    pub throttle: Option<usize>,
+    /// An extra #SBATCH line for both jobs, e.g. --sbatch-line=--qos=long (repeatable).
+    #[arg(
+        long,
+        value_name = "OPTION",
+        requires = "slurm",
+        allow_hyphen_values = true
+    )]
+    pub sbatch_line: Vec<String>,
+    /// Processors per array task (default: the units of a task, at most 4).
+    #[arg(long, value_name = "N", requires = "slurm")]
+    pub cpus_per_task: Option<usize>,
+    /// The engine's speed for the time estimates (grain-steps per second on one thread);
+    /// default: from fillings done in --out, else measured now (about a second).
+    #[arg(long, value_name = "RATE", requires = "slurm")]
+    pub grain_steps_per_second: Option<f64>,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
@@ -55,7 +105,57 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         Plan::quick()
     };
-    let report = reproduce(&plan, args.photos.as_deref(), &args.out)?;
+    let photos = args.photos.as_deref();
+    if let Some(dir) = &args.slurm {
+        let options = SlurmOptions {
+            tasks: args.tasks,
+            partition: args.partition,
+            account: args.account,
+            throttle: args.throttle,
+            sbatch_lines: args.sbatch_line,
+            cpus_per_task: args.cpus_per_task,
+            grain_steps_per_second: args.grain_steps_per_second,
+        };
+        let program = std::env::current_exe()?;
+        let w = write_slurm(&plan, photos, &args.out, dir, &program, &options)?;
+        let r = &w.resources;
+        println!(
+            "{} units in {} tasks of {} processors, {} MB, time limit {} each (estimates in {})",
+            w.job.units,
+            w.job.tasks,
+            r.cpus,
+            r.memory_mb,
+            facets::reproduce::slurm::slurm_time(r.time_limit_s),
+            dir.join("array.sbatch").display()
+        );
+        println!("submit: {}", w.submit.display());
+        return Ok(());
+    }
+    if let Some(task) = args.task {
+        let tasks = args.tasks.unwrap_or(0);
+        let shard = Shard::new(task, tasks)?;
+        let done = reproduce_shard(&plan, photos, &args.out, shard)?;
+        for t in &done.stages {
+            println!("{:>10}: {:.1} s", t.stage, t.seconds);
+        }
+        println!(
+            "task {task} of {tasks}: {} of {} units ({} fillings run, {} found done); then --collect",
+            done.units.len(),
+            done.of,
+            done.fillings_run,
+            done.fillings_reused
+        );
+        return Ok(());
+    }
+    let report = if args.collect {
+        collect(&plan, photos, &args.out, args.tasks)?
+    } else {
+        anyhow::ensure!(
+            args.tasks.is_none(),
+            "--tasks needs --task, --collect or --slurm"
+        );
+        reproduce(&plan, photos, &args.out)?
+    };
     for t in &report.stages {
         println!("{:>10}: {:.1} s", t.stage, t.seconds);
     }

@@ -48,27 +48,33 @@ pub fn shape_of(kind: GrainKindName) -> anyhow::Result<vision::GrainShape> {
     grain_shape(kind == GrainKindName::Square, k.length() / k.width())
 }
 
-/// Detects every photograph (in parallel) and scores those with a truth table.
+/// Where the detector's table of a photograph goes.
+pub fn table_path(layout: &Layout, kind: GrainKindName, phi0: f64, photo: &Path) -> PathBuf {
+    let stem = photo
+        .file_stem()
+        .and_then(|s| s.to_str())
+        .unwrap_or("photo");
+    layout.detected_dir(kind, phi0).join(format!("{stem}.csv"))
+}
+
+/// A table is complete when its sidecar exists (written last).
+pub fn table_done(table: &Path) -> bool {
+    table.exists() && meta_path(table).exists()
+}
+
+/// Detects every photograph (in parallel) and scores those with a truth table. The
+/// photographs listed in `overlays` also get an overlay for the report.
 pub fn detect_all(
     photos: &[Photo],
     layout: &Layout,
+    overlays: &[PathBuf],
     bar: &ProgressBar,
 ) -> anyhow::Result<Vec<Detected>> {
     bar.set_length(photos.len() as u64);
-    // The first photograph of each (shape, phi0) also gets an overlay for the report.
-    let first: Vec<bool> = photos
-        .iter()
-        .enumerate()
-        .map(|(k, p)| {
-            !photos[..k]
-                .iter()
-                .any(|q| q.kind == p.kind && (q.phi0 - p.phi0).abs() < 1e-9)
-        })
-        .collect();
     let results: Vec<anyhow::Result<Detected>> = photos
         .par_iter()
-        .zip(first)
-        .map(|(p, overlay)| {
+        .map(|p| {
+            let overlay = overlays.contains(&p.path);
             let r = detect_one(p, layout, overlay, bar)
                 .with_context(|| format!("photograph {}", p.path.display()));
             bar.inc(1);
@@ -84,19 +90,19 @@ fn detect_one(
     want_overlay: bool,
     bar: &ProgressBar,
 ) -> anyhow::Result<Detected> {
+    let table = table_path(layout, photo.kind, photo.phi0, &photo.path);
     let dir = layout.detected_dir(photo.kind, photo.phi0);
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let stem = photo
-        .path
-        .file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("photo")
-        .to_string();
-    let table = dir.join(format!("{stem}.csv"));
-    let overlay_path = dir.join(format!("{stem}_overlay.png"));
+    let overlay_path = table.with_file_name(format!(
+        "{}_overlay.png",
+        table
+            .file_stem()
+            .and_then(|s| s.to_str())
+            .unwrap_or("photo")
+    ));
     let scale = photo.px_per_mm * 1e3;
     let mut seconds = None;
-    if !(table.exists() && meta_path(&table).exists()) {
+    if !table_done(&table) {
         let params = DetectParams::new(shape_of(photo.kind)?, scale);
         let image = read_photo(&photo.path, params.max_pixels)?;
         let start = Instant::now();
