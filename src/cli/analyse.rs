@@ -203,14 +203,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for e in &summary.ensembles {
         let g1 = if e.rdf.n_used == 0 {
             eprintln!(
-                "warning: phi0 = {:.3}: no grain of the {} deposits lies {margin} D ({:.1} mm) inside \
-                 the analysed area (the frame less {:.0} mm at each side wall), so g(r) and g(1) \
-                 cannot be measured (rdf.png and rdf.csv have no curve for it): analyse a wider \
-                 silo (160 mm or more) or a larger frame",
+                "warning: phi0 = {:.3}: in none of its {} deposits does a grain lie {margin} D \
+                 ({:.1} mm) inside the analysed area (the frame less {:.0} mm at each side wall), \
+                 so g(r) and g(1) cannot be measured (rdf.png and rdf.csv have no curve for it): \
+                 the area must be wider and taller than {:.1} mm (a silo of 160 mm or more leaves \
+                 an 80 mm wide strip)",
                 e.phi0,
                 e.n_realisations,
                 margin * e.grain_width * 1e3,
                 facets::deposit::WALL_MARGIN * 1e3,
+                2.0 * margin * e.grain_width * 1e3,
             );
             format!("n/a (no grain {margin} D from the analysed area's edges)")
         } else {
