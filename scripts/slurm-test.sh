@@ -25,8 +25,10 @@ if ! command -v slurmctld >/dev/null || ! command -v slurmd >/dev/null \
     DEBIAN_FRONTEND=noninteractive apt-get install -y -qq slurm-wlm munge >/dev/null
 fi
 
-cargo build --release --quiet
-facets="$root/target/release/facets"
+# CI builds with its own profile (no whole-program optimisation); by hand, the release build.
+profile=${FACETS_PROFILE:-release}
+cargo build --profile "$profile" --quiet
+facets="$root/target/$profile/facets"
 
 work=$(mktemp -d /tmp/facets-slurm-test.XXXXXX)
 started=()

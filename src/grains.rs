@@ -1,4 +1,4 @@
-//! The grains of the study (SPEC §1): square nuts, short rods and long rods.
+//! The grains of the study (docs/model.md §1): square nuts, short rods and long rods.
 
 use std::fmt;
 use std::str::FromStr;
@@ -17,7 +17,7 @@ pub enum GrainKind {
     LongRod,
 }
 
-/// Rounding radius of the DEM outline as a fraction of the width D (SPEC §2 default).
+/// Rounding radius of the DEM outline as a fraction of the width D (docs/model.md §2 default).
 pub const DEFAULT_ROUNDING: f64 = 0.05;
 
 impl GrainKind {
@@ -91,7 +91,7 @@ mod tests {
 
     #[test]
     fn masses_match_the_experiments() {
-        // SPEC §2: ~0.97 g nuts, 0.27 g and 0.49 g rods.
+        // docs/model.md §2: ~0.97 g nuts, 0.27 g and 0.49 g rods.
         for (kind, grams) in [
             (GrainKind::Square, 0.97),
             (GrainKind::ShortRod, 0.27),

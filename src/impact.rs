@@ -1,4 +1,4 @@
-//! A single impact, the hardest case of the parameter set (SPEC §2): a grain dropped
+//! A single impact, the hardest case of the parameter set (docs/model.md §2): a grain dropped
 //! corner-first at several m/s overlaps its target by more than r_i + r_j.
 
 use sim::{Body, ContactLaw, GrainState, Vec2, Wall, World, WorldSettings};

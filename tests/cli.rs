@@ -197,3 +197,37 @@ fn mixed_shapes_are_refused() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("rods.csv") && err.contains("line 3"), "{err}");
 }
+
+/// A deposit whose analysed area leaves no grain 4 D inside it (a 96 mm silo: 16 mm once 40 mm
+/// is cut at each wall) has no g(r): analyse says so on stderr and prints g(1) as n/a, never NaN.
+#[test]
+fn analyse_warns_when_no_grain_can_centre_g_of_r() {
+    let dir = tempfile::tempdir().unwrap();
+    let table = dir.path().join("narrow.csv");
+    let mut rows = String::from("x_mm,y_mm,theta_rad,length_mm,width_mm\n");
+    for layer in 0..3 {
+        for k in 0..13 {
+            let x = 3.5 + 7.0 * k as f64;
+            let y = 3.5 + 7.0 * layer as f64;
+            rows.push_str(&format!("{x:.2},{y:.2},0,6.9,6.9\n"));
+        }
+    }
+    std::fs::write(&table, rows).unwrap();
+    let out = facets()
+        .arg("analyse")
+        .arg(&table)
+        .args(["--phi0", "0.1", "--silo-width-mm", "96", "--out"])
+        .arg(dir.path().join("out"))
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("warning: phi0 = 0.100")
+            && stderr.contains("g(r) and g(1) cannot be measured"),
+        "no warning on stderr: {stderr}"
+    );
+    assert!(stdout.contains("g(1) = n/a"), "{stdout}");
+    assert!(!stdout.contains("NaN"), "{stdout}");
+}

@@ -185,7 +185,7 @@ fn check_report(out: &Path) -> Value {
             number(&d["centre_rms_mm"], "centre RMS"),
             number(&d["orientation_rms_deg"], "orientation RMS"),
         );
-        // The detector's documented accuracy on lab-style photographs (README, bench vision):
+        // The detector's documented accuracy on lab-style photographs (docs/results/detector-bench.md):
         // squares 100 % and < 0.1 mm, < 1 degree; rods about 90 % and a few degrees.
         let (min_recall, max_centre, max_angle) = if square {
             (0.97, 0.1, 2.0)

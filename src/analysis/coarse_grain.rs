@@ -1,4 +1,4 @@
-//! Coarse-grained stress (Goldhirsch; SPEC §3):
+//! Coarse-grained stress (Goldhirsch; docs/model.md §3):
 //! sigma_ab(R) = - sum over contacts of f_a v_b * integral_0^1 Phi(R - a + s v) ds,
 //! with Phi(R) = exp(-(|R|/w)^2) / (pi w^2), a the grain centre, v = a - b the branch to the
 //! partner's centre b (grain-grain: the ordered-pair sum's 1/2 counts each contact once) or to the

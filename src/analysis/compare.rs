@@ -1,4 +1,4 @@
-//! Experiment against simulation, ensemble against ensemble (SPEC §5): for each phi0 both have,
+//! Experiment against simulation, ensemble against ensemble (docs/model.md §5): for each phi0 both have,
 //! the difference of each scalar observable in units of the combined standard error.
 
 use serde::{Deserialize, Serialize};

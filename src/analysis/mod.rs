@@ -1,4 +1,4 @@
-//! The analysis shared by photographs and simulations (SPEC §3). One module per measure, each
+//! The analysis shared by photographs and simulations (docs/model.md §3). One module per measure, each
 //! with the same shape: an input struct (parameters), `compute` (on an ensemble), a result
 //! struct (serialisable, so `facets compare` can read what `facets analyse` wrote).
 

@@ -1,5 +1,5 @@
 //! Pressure profile along the silo's vertical centre line against depth h below the free
-//! surface (SPEC §3), with the overburden and a Janssen fit.
+//! surface (docs/model.md §3), with the overburden and a Janssen fit.
 //!
 //! The free surface above the centre line is the top of the highest grain whose centre lies
 //! within max(w, 2 D) of the line. The fit uses depths down to 2 w above the floor: closer to

@@ -1,4 +1,4 @@
-//! Radial distribution function g(r) (SPEC §3), r in grain widths D.
+//! Radial distribution function g(r) (docs/model.md §3), r in grain widths D.
 //!
 //! Bins are centred on multiples of dr (bin k covers [(k - 1/2) dr, (k + 1/2) dr)), so a
 //! lattice distance of exactly 1 D sits mid-bin and its annulus area is exactly 2 pi r dr.

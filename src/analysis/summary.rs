@@ -13,7 +13,7 @@ use crate::deposit::{DepositMeta, Ensemble, Shape, Source};
 pub struct AnalysisParameters {
     pub orientation: OrientationInput,
     pub rdf: RdfInput,
-    /// Coarse-graining width in grain widths D; None = SPEC's 4 D for squares, 3 D for rods.
+    /// Coarse-graining width in grain widths D; None = docs/model.md's 4 D for squares, 3 D for rods.
     pub w_over_d: Option<f64>,
     /// The widths of the scan over w, in D.
     pub w_scan_over_d: Vec<f64>,

@@ -63,7 +63,7 @@ pub fn grid_scene(spec: &DepositSpec, time_step: f64) -> anyhow::Result<World> {
 }
 
 /// Lets the grid fall and settle until the kinetic energy is below `1e-4` of the elastic
-/// energy (SPEC §2's relaxation criterion), checked every 1000 steps, or until `max_time`
+/// energy (docs/model.md §2's relaxation criterion), checked every 1000 steps, or until `max_time`
 /// (s): a throughput benchmark needs a dense deposit near rest. `progress` gets the simulated
 /// time. Returns kinetic / elastic at the end.
 pub fn settle(
@@ -118,7 +118,7 @@ pub fn quench(world: &mut World) -> anyhow::Result<f64> {
     Ok(ratio)
 }
 
-/// The relaxation measure of SPEC §2.
+/// The relaxation measure of docs/model.md §2.
 pub fn kinetic_over_elastic(world: &World) -> f64 {
     let e = world.energies();
     e.kinetic / e.elastic

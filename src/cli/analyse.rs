@@ -199,16 +199,32 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         figures.len(),
         args.out.display()
     );
+    let margin = summary.parameters.rdf.margin;
     for e in &summary.ensembles {
+        let g1 = if e.rdf.n_used == 0 {
+            eprintln!(
+                "warning: phi0 = {:.3}: in none of its {} deposits does a grain lie {margin} D \
+                 ({:.1} mm) inside the analysed area (the frame less {:.0} mm at each side wall), \
+                 so g(r) and g(1) cannot be measured (rdf.png and rdf.csv have no curve for it): \
+                 the area must be wider and taller than {:.1} mm (a silo of 160 mm or more leaves \
+                 an 80 mm wide strip)",
+                e.phi0,
+                e.n_realisations,
+                margin * e.grain_width * 1e3,
+                facets::deposit::WALL_MARGIN * 1e3,
+                2.0 * margin * e.grain_width * 1e3,
+            );
+            format!("n/a (no grain {margin} D from the analysed area's edges)")
+        } else {
+            format!("{:.2} +- {:.2}", e.rdf.g_at_1.mean, e.rdf.g_at_1.stderr)
+        };
         let j = e.pressure.as_ref().and_then(|p| p.janssen);
         println!(
-            "  phi0 = {:.3}: {} deposits, phi_f = {:.3} +- {:.3}, g(1) = {:.2} +- {:.2}, S4 = {:.3}{}",
+            "  phi0 = {:.3}: {} deposits, phi_f = {:.3} +- {:.3}, g(1) = {g1}, S4 = {:.3}{}",
             e.phi0,
             e.n_realisations,
             e.rdf.packing_fraction.mean,
             e.rdf.packing_fraction.stderr,
-            e.rdf.g_at_1.mean,
-            e.rdf.g_at_1.stderr,
             e.orientation.s4.mean,
             match j {
                 Some(j) if j.saturates() => format!(

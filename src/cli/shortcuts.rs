@@ -3,9 +3,9 @@
 use clap::Args as ClapArgs;
 use vision::Shortcuts;
 
-/// What the detector may leave out to go faster. Each costs accuracy: the README's "Speed
-/// against accuracy" measures what, and `facets bench vision` with the same options measures
-/// it again.
+/// What the detector may leave out to go faster. Each costs accuracy: "Speed against accuracy"
+/// in docs/results/detector-bench.md measures what, and `facets bench vision` with the same
+/// options measures it again.
 #[derive(Debug, ClapArgs)]
 pub struct ShortcutArgs {
     /// Sweeps of settling at the end, each grain refined again against its neighbours where

@@ -1,7 +1,7 @@
 use super::{Deposit, Grain};
 
 /// Grains whose centre is closer than this to a side wall are not analysed (walls align them;
-/// SPEC §1).
+/// docs/model.md §1).
 pub const WALL_MARGIN: f64 = 0.040;
 
 /// The analysed area: the frame less 40 mm at each side wall (metres).

@@ -1,4 +1,4 @@
-//! The contact table of a simulated deposit (SPEC §4): one row per contact,
+//! The contact table of a simulated deposit (docs/model.md §4): one row per contact,
 //! `i,j,fx_N,fy_N,cx_mm,cy_mm`, the force on grain i from j (or from a wall) applied at (cx, cy).
 
 use std::io::Read;
@@ -176,7 +176,7 @@ fn csv_error_text(e: &csv::Error, headers: &csv::StringRecord) -> String {
     }
 }
 
-/// Writes a contact table atomically (SPEC §4 columns).
+/// Writes a contact table atomically (docs/model.md §4 columns).
 pub fn write_contacts_csv(path: &Path, contacts: &[Contact]) -> anyhow::Result<()> {
     write_atomic(path, |out| {
         let mut w = csv::Writer::from_writer(out);

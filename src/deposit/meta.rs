@@ -5,7 +5,7 @@
 //! - `NAME.meta.json` — a [`DepositMeta`], e.g.
 //!   `{"silo_width_mm": 256, "phi0": 0.1, "frame_mm": {"x_min": 0, "x_max": 256, "y_min": 290,
 //!   "y_max": 410}, "source": "simulation"}`; unknown fields are an error;
-//! - `NAME.contacts.csv` — the contact table of a simulated deposit (SPEC §4).
+//! - `NAME.contacts.csv` — the contact table of a simulated deposit (docs/model.md §4).
 //!
 //! Without a sidecar the command line supplies `phi0` and the silo width (`facets analyse
 //! --phi0 --silo-width-mm`); the frame then defaults to the silo's whole width and the height of
@@ -51,10 +51,10 @@ pub struct DepositMeta {
     /// Default: the whole width, from the floor to the top of the deposit.
     #[serde(default)]
     pub frame_mm: Option<FrameMm>,
-    /// Mass per area of one grain's outline (kg/m^2). Default: SPEC §2 (nuts 20.3, rods 18.5).
+    /// Mass per area of one grain's outline (kg/m^2). Default: docs/model.md §2 (nuts 20.3, rods 18.5).
     #[serde(default)]
     pub areal_density_kg_m2: Option<f64>,
-    /// Gravity (m/s^2). Default 10 (SPEC §2).
+    /// Gravity (m/s^2). Default 10 (docs/model.md §2).
     #[serde(default)]
     pub gravity_m_s2: Option<f64>,
     #[serde(default)]

@@ -1,6 +1,6 @@
 //! The deposit model: a table of grains (centre, orientation, outline), whatever made it
 //! (a photograph or a simulation), its contacts when simulated, and its sidecar. SI units
-//! inside; millimetres in files (SPEC §4).
+//! inside; millimetres in files (docs/model.md §4).
 //!
 //! Files of one deposit `NAME`:
 //! - `NAME.csv` — grains (`x_mm,y_mm,theta_rad,length_mm,width_mm[,confidence,cut]`);

@@ -2,7 +2,7 @@ use serde::{Deserialize, Serialize};
 
 use super::{Deposit, Grain};
 
-/// The three grain shapes of the experiment (SPEC §1), told apart by aspect ratio L/D.
+/// The three grain shapes of the experiment (docs/model.md §1), told apart by aspect ratio L/D.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Shape {
@@ -36,7 +36,7 @@ impl Shape {
         }
     }
 
-    /// SPEC §2: nuts 20.3 kg/m^2 (net of the hole, over the square outline), rods 18.5 kg/m^2.
+    /// docs/model.md §2: nuts 20.3 kg/m^2 (net of the hole, over the square outline), rods 18.5 kg/m^2.
     pub fn default_areal_density(self) -> f64 {
         match self {
             Shape::Square => 20.3,

@@ -29,7 +29,7 @@ struct Row {
     cut: Option<u8>,
 }
 
-/// Reads a deposit table (SPEC §4). Errors name the file, the line and the field.
+/// Reads a deposit table (docs/model.md §4). Errors name the file, the line and the field.
 pub fn read_deposit_csv(path: &Path) -> anyhow::Result<Deposit> {
     let file =
         std::fs::File::open(path).with_context(|| format!("cannot open {}", path.display()))?;

@@ -1,4 +1,4 @@
-//! Photographs of deposits: detection of every grain, written as deposit tables (SPEC §4)
+//! Photographs of deposits: detection of every grain, written as deposit tables (docs/model.md §4)
 //! with confidence and cut columns, and optional overlays.
 
 use std::path::{Path, PathBuf};

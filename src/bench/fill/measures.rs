@@ -16,12 +16,13 @@ pub const RDF_R_MAX: f64 = 4.0;
 /// How the observables are measured (the analysis's defaults but for the g(r) margin).
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct MeasureInput {
-    /// Centres of g(r) must lie this many D inside the analysed area. The small scenes' silo is
-    /// 96 mm wide, so the analysed strip (40 mm off each wall) is 16 mm wide and the analysis's
-    /// 4 D would leave no centre; a smaller margin biases g(r) at large r by the strip's edges,
-    /// the same bias for every setting, so differences between settings still measure them.
+    /// Centres of g(r) must lie this many D inside the analysed area. The bench's deposits are
+    /// a few layers deep (150 grains by default), so the analysis's 4 D from the top and the
+    /// floor would leave few centres or none; a smaller margin biases g(r) at large r by the
+    /// area's edges, the same bias for every setting, so differences between settings still
+    /// measure them.
     pub rdf_margin_d: f64,
-    /// Coarse-graining width of the pressure in D (SPEC: 4 for squares, 3 for rods).
+    /// Coarse-graining width of the pressure in D (docs/model.md §3: 4 for squares, 3 for rods).
     pub w_over_d: Option<f64>,
     /// Spacing of the pressure profile's points in D.
     pub dh_over_d: f64,

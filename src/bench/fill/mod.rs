@@ -1,4 +1,4 @@
-//! Speed against error of the filling's settings (issue 3, SPEC §5): each faster setting runs
+//! Speed against error of the filling's settings (issue 3, docs/model.md §5): each faster setting runs
 //! the same reference scenes and seeds as the paper-faithful one, and its ensemble is compared
 //! with the faithful ensemble.
 //!

@@ -63,7 +63,7 @@ fn cell(d: f64) -> String {
     }
 }
 
-/// The table for the README, with a line saying how it was made.
+/// The table for docs/results/speed-vs-error.md, with a line saying how it was made.
 pub fn write_markdown(path: &Path, report: &BenchReport) -> anyhow::Result<()> {
     write_atomic(path, |w| {
         writeln!(

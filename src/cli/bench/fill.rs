@@ -13,10 +13,10 @@ use crate::cli::progress::bar;
 /// with the same seeds as the paper-faithful one, and each observable's deviation from the
 /// faithful ensemble is given in standard errors (formulas: module facets::bench::fill).
 ///
-/// Scenes: the small scenes of data-samples/scenes/ (96 mm silo), grain count set by --grains.
+/// Scenes: the small scenes of data-samples/scenes/ (160 mm silo), grain count set by --grains.
 /// Settings: see --settings (faithful, the reference, is always run).
 ///
-/// Writes into --out: fill.csv, fill.md (the README table), speed_vs_error.png, report.json
+/// Writes into --out: fill.csv, fill.md (the table of docs/results/speed-vs-error.md), speed_vs_error.png, report.json
 /// (every measure with its standard errors), and the runs in runs/SCENE/SETTING/seed-N/.
 /// Seeds run in parallel (RAYON_NUM_THREADS sets the threads); the deposits and deviations do
 /// not depend on it, the times do.

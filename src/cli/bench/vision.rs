@@ -267,7 +267,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })?;
     if shortcuts != Shortcuts::default() {
         println!(
-            "Detector shortcuts taken: {} (README, \"Speed against accuracy\").\n",
+            "Detector shortcuts taken: {} (docs/results/detector-bench.md, \"Speed against accuracy\").\n",
             args.shortcuts.describe()
         );
     }
