@@ -2,7 +2,7 @@
 //!
 //! A grain is a convex core polygon swept by a disk of radius r. Grains interact through
 //! vertex-edge sub-contacts with a linear spring-dashpot normal law and a tangential spring
-//! capped by Coulomb friction (SPEC §2). The pipeline of one step reads top to bottom in
+//! capped by Coulomb friction (docs/model.md §2). The pipeline of one step reads top to bottom in
 //! [`pipeline::World::step`]: integrate the first half kick and drift, broad phase (cell list
 //! and Verlet list), narrow phase (sub-contacts), contact forces, second half kick.
 //!

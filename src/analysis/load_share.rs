@@ -1,6 +1,6 @@
 //! The side walls' and the floor's shares of a deposit's weight, read from its contact table.
 //!
-//! A row of the table is the force on grain `i` from its partner (SPEC §4), so a boundary
+//! A row of the table is the force on grain `i` from its partner (docs/model.md §4), so a boundary
 //! carries the grains by the upward (y) components of the forces it exerts on them. The
 //! shares are of the total upward force of the three boundaries: in a deposit at rest that is
 //! its weight (a run stops when they agree within `[run] load_balance`), and the shares then

@@ -1,7 +1,7 @@
 //! The feeder: a band as wide as the silo, filled at each insertion with the grains due by
 //! then, at random non-overlapping positions and orientations, all moving down at the inflow
 //! speed. A band of height H moving at v passes in H / v, so one band of phi0 W H / A grains
-//! every H / v gives the feed rate f = v phi0 W / A of SPEC §1.
+//! every H / v gives the feed rate f = v phi0 W / A of docs/model.md §1.
 
 use std::collections::HashMap;
 

@@ -14,7 +14,7 @@ use crate::deposit::{
 use crate::io::write_atomic;
 use crate::scene::FrameChoice;
 
-/// Heights of the photographed region "E" (SPEC §1), mm.
+/// Heights of the photographed region "E" (docs/model.md §1), mm.
 const REGION_E_MM: [f64; 2] = [290.0, 410.0];
 
 /// Refuses an output folder that cannot be created or written, before anything is simulated.

@@ -1,4 +1,4 @@
-//! The silo's floor and side walls built of fixed grains, as the paper built them (SPEC §2), and
+//! The silo's floor and side walls built of fixed grains, as the paper built them (docs/model.md §2), and
 //! the deposit's view of contacts: grain indices counted from the first deposit grain, and a
 //! fixed grain's contact reported as one with its wall.
 

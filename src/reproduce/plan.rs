@@ -112,7 +112,7 @@ impl Plan {
         }
     }
 
-    /// `facets reproduce --paper`: the paper's silo, grain counts and phi0 values (SPEC §1-2),
+    /// `facets reproduce --paper`: the paper's silo, grain counts and phi0 values (docs/model.md §1-2),
     /// eight realisations a side.
     pub fn paper() -> Plan {
         let squares = [0.01, 0.025, 0.05, 0.1, 0.25];

@@ -108,7 +108,7 @@ pub struct GrainSection {
     /// Rounding radius as a fraction of the width D (dimensionless). Default 0.05.
     #[serde(default)]
     pub rounding_fraction: Option<f64>,
-    /// Mass per outline area (kg/m^2). Default: nuts 20.3, rods 18.5 (SPEC §2).
+    /// Mass per outline area (kg/m^2). Default: nuts 20.3, rods 18.5 (docs/model.md §2).
     #[serde(default)]
     pub areal_density_kg_m2: Option<f64>,
 }
@@ -183,7 +183,7 @@ pub enum Insertion {
     Fixed,
 }
 
-/// `[contact]`: the contact law of SPEC §2 and gravity. Defaults are the paper's.
+/// `[contact]`: the contact law of docs/model.md §2 and gravity. Defaults are the paper's.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct ContactSection {
@@ -290,7 +290,7 @@ pub struct RunSection {
     /// Time step (s). Default: none, and `[model] steps_per_collision` sets it (t_c / 10).
     pub time_step_s: Option<f64>,
     /// The deposit is relaxed when its mean kinetic energy is below this fraction of the mean
-    /// elastic energy in the contacts (dimensionless). Default 1e-4 (SPEC §2).
+    /// elastic energy in the contacts (dimensionless). Default 1e-4 (docs/model.md §2).
     pub relaxation_ratio: f64,
     /// The window of the means above (s of simulated time), checks every `check_interval_s`:
     /// a deposit oscillating as a whole passes through turning points where its kinetic energy

@@ -2,7 +2,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::SimError;
 
-/// The per-sub-contact force law of SPEC §2: a linear spring-dashpot along the normal, never
+/// The per-sub-contact force law of docs/model.md §2: a linear spring-dashpot along the normal, never
 /// attractive, and a tangential spring on the accumulated displacement with damping, capped
 /// by Coulomb friction.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

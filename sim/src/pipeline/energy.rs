@@ -9,7 +9,7 @@ pub struct Energies {
     pub elastic: f64,
     /// Elastic energy that entered the account when sub-contacts appeared, less what left it
     /// when they vanished, evaluated at the configuration of the switch. A contact that opens
-    /// and closes at zero overlap contributes nothing. The sub-contact model of SPEC §2 switches
+    /// and closes at zero overlap contributes nothing. The sub-contact model of docs/model.md §2 switches
     /// at finite overlap when the shared stretch of a face-on-face contact shrinks to a
     /// corner-on-corner contact (two sub-contacts become one), so `total - switching` is what
     /// the integrator conserves in an undamped, frictionless system.

@@ -523,7 +523,13 @@ impl World {
                 let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                 let previous = || c.subs.iter().map(|s| s.features);
                 core_core_sub_contacts(&first, &second, previous, &mut found);
-                records(*i as usize, Body::Grain(*j as usize), c, found)
+                records(
+                    *i as usize,
+                    Body::Grain(*j as usize),
+                    c,
+                    found,
+                    &self.settings.law,
+                )
             });
         let walls = self
             .verlet
@@ -538,7 +544,13 @@ impl World {
                     &self.walls[*k as usize],
                     &mut found,
                 );
-                records(*i as usize, Body::Wall(*k as usize), c, found)
+                records(
+                    *i as usize,
+                    Body::Wall(*k as usize),
+                    c,
+                    found,
+                    &self.settings.law,
+                )
             });
         pairs.chain(walls)
     }
@@ -611,18 +623,26 @@ impl World {
 }
 
 /// The records of one pair's stored sub-contacts, with the normals and points of `found`.
-fn records(
+fn records<'a>(
     first: usize,
     second: Body,
-    contact: &PairContact,
+    contact: &'a PairContact,
     found: SmallVec<[SubContact; 4]>,
-) -> impl Iterator<Item = ContactRecord> + '_ {
+    law: &'a ContactLaw,
+) -> impl Iterator<Item = ContactRecord> + 'a {
     contact.subs.iter().filter_map(move |s| {
         let geometry = found.iter().find(|f| f.features == s.features)?;
+        // A corner sharing its zone with another carries -U grad(w) besides its weighted law
+        // (PairContact::resolve): the force the grain feels, which the walls' loads and the
+        // stress must see whole.
+        let mut force = s.force(geometry.normal);
+        if geometry.weight < 1.0 {
+            force -= geometry.weight_gradient.position * law.elastic_energy(geometry.overlap, 0.0);
+        }
         Some(ContactRecord {
             first,
             second,
-            force: s.force(geometry.normal),
+            force,
             point: geometry.point,
             normal: geometry.normal,
             overlap: s.overlap,

@@ -32,7 +32,7 @@ struct Touch {
     closest: Vec2,
 }
 
-/// All sub-contacts between two placed cores (SPEC §2): every vertex of one core against every
+/// All sub-contacts between two placed cores (docs/model.md §2): every vertex of one core against every
 /// edge of the other, within r_i + r_j.
 ///
 /// - A vertex whose projection falls inside an edge gives a vertex-edge sub-contact, so a face

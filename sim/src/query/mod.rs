@@ -1,4 +1,4 @@
-//! Narrow phase: the sub-contacts between two placed cores, or a core and a wall (SPEC §2).
+//! Narrow phase: the sub-contacts between two placed cores, or a core and a wall (docs/model.md §2).
 
 mod core_core;
 mod core_wall;

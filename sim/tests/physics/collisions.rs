@@ -104,7 +104,7 @@ fn corner_on_face_squares() {
     let gap = core_half + core_half * 2f64.sqrt() + 2.0 * SQUARE_RADIUS + 0.1e-3;
     for dt in [Some(1e-6), None] {
         let (e, steps) = collide(square(), NUT_DENSITY, FRAC_PI_4, gap, dt);
-        // The paper's grains are bouncy: 0.9 to 0.95 (SPEC §2).
+        // The paper's grains are bouncy: 0.9 to 0.95 (docs/model.md §2).
         assert!(e > 0.88 && e < 0.96, "{e}");
         check(
             &format!("square corner on face, dt {dt:?}, {steps} steps"),

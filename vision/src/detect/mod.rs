@@ -75,7 +75,7 @@ pub struct DetectParams {
     /// they ended up ([`settle::SWEEPS`] for rods; none for nuts, see `DetectParams::new`).
     pub settle_sweeps: usize,
     /// Distinct coarse poses of each fit refined at full resolution, the best of them kept
-    /// (at least one). Fewer is faster and less accurate (README, "Speed against accuracy").
+    /// (at least one). Fewer is faster and less accurate (docs/results/detector-bench.md, "Speed against accuracy").
     pub finalists: usize,
     /// Rods: after the rounds and the rows' repair, the repairs of the other mistakes the
     /// greedy acceptance makes (rods turned across their neighbours, left out, crowded or

@@ -14,7 +14,7 @@ use super::{Tally, Truth, score};
 pub const FRAME_WIDTH: f64 = 0.258;
 pub const FRAME_HEIGHT: f64 = 0.120;
 
-/// The three grains of the experiment (SPEC §1), by the names the command line uses.
+/// The three grains of the experiment (docs/model.md §1), by the names the command line uses.
 pub fn shapes() -> [(&'static str, GrainShape); 3] {
     [
         ("square", GrainShape::nut(6.9e-3)),
