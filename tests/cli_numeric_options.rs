@@ -218,3 +218,59 @@ fn the_defaults_and_sensible_values_are_accepted() {
     assert!(success, "{stderr}");
     assert!(out.join("summary.json").exists());
 }
+
+mod random_values {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// Zero, negative, NaN or infinite: no width, cut-off, scale or fraction takes these.
+    fn nonsense() -> impl Strategy<Value = f64> {
+        prop_oneof![
+            Just(0.0),
+            Just(f64::NAN),
+            Just(f64::INFINITY),
+            Just(f64::NEG_INFINITY),
+            -1e300..0.0f64,
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(24))]
+
+        #[test]
+        fn commands_refuse_nonsense_by_name(
+            value in nonsense(),
+            pick in 0usize..6,
+        ) {
+            let dir = tempfile::tempdir().unwrap();
+            let out = dir.path().display().to_string();
+            let (command, option, rest): (Vec<String>, &str, Vec<&str>) = match pick {
+                0 => (strings(&["analyse", &sample("deposits/stack.csv")]), "--w-over-d", vec![]),
+                1 => (strings(&["analyse", &sample("deposits/stack.csv")]), "--w-scan", vec![]),
+                2 => (strings(&["analyse", &sample("deposits/stack.csv")]), "--cutoff", vec![]),
+                3 => (
+                    strings(&["analyse", &sample("deposits/stack.csv")]),
+                    "--phi0",
+                    vec!["--silo-width-mm", "165.6"],
+                ),
+                4 => (strings(&["render", &sample("deposits/photo.csv")]), "--px-per-mm", vec![]),
+                _ => (
+                    strings(&["detect", "--shape", "square", &sample("photos/square-lab-10px.png")]),
+                    "--px-per-mm",
+                    vec![],
+                ),
+            };
+            let args = [
+                command,
+                vec![format!("{option}={value}")],
+                strings(&rest),
+                vec!["--out".into(), format!("{out}/result.png")],
+            ]
+            .concat();
+            let (success, stderr) = run(&args);
+            prop_assert!(!success, "{args:?}: exit 0\n{stderr}");
+            prop_assert!(stderr.contains(option), "{args:?}:\n{stderr}");
+            prop_assert!(walk(dir.path()).is_empty(), "{args:?}: wrote a file");
+        }
+    }
+}
