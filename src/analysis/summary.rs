@@ -1,6 +1,7 @@
 //! Every measure of every ensemble of one analysis run: what `facets analyse` writes to
 //! summary.json and `facets compare` reads back.
 
+use anyhow::bail;
 use serde::{Deserialize, Serialize};
 
 use super::coarse_grain::{CoarseGrainInput, DEFAULT_CUTOFF};
@@ -36,7 +37,76 @@ impl Default for AnalysisParameters {
     }
 }
 
+/// Ranges of the parameters: beyond them a measure means nothing, or its grids grow without
+/// bound (a width or spacing of zero would take forever, a huge cut-off would fill memory).
+const W_OVER_D: (f64, f64) = (0.1, 100.0);
+const CUTOFF: (f64, f64) = (1.0, 10.0);
+const DH_OVER_D: (f64, f64) = (0.01, 100.0);
+const RDF_DR: (f64, f64) = (0.001, 10.0);
+/// r_max's lower bound is 1.5 dr, one bin.
+const RDF_R_MAX: (f64, f64) = (0.0, 100.0);
+const RDF_MARGIN: (f64, f64) = (0.0, 1000.0);
+/// Orientation bins from 0.01 degree to a whole period of the squares (pi/2).
+const BIN_WIDTH: (f64, f64) = (
+    0.01 * std::f64::consts::PI / 180.0,
+    std::f64::consts::FRAC_PI_2,
+);
+
 impl AnalysisParameters {
+    /// Checks every number, naming the parameter (and its `facets analyse` option, if it has
+    /// one) and the range expected.
+    pub fn validate(&self) -> anyhow::Result<()> {
+        if let Some(w) = self.w_over_d {
+            in_range(
+                "--w-over-d (coarse-graining width w, in grain widths D)",
+                w,
+                W_OVER_D,
+            )?;
+        }
+        for &w in &self.w_scan_over_d {
+            in_range(
+                "--w-scan (a coarse-graining width of the scan, in grain widths D)",
+                w,
+                W_OVER_D,
+            )?;
+        }
+        in_range(
+            "--cutoff (kernel cut-off, in multiples of w)",
+            self.cutoff,
+            CUTOFF,
+        )?;
+        in_range(
+            "dh_over_d (spacing of the pressure profile's points, in D)",
+            self.dh_over_d,
+            DH_OVER_D,
+        )?;
+        in_range(
+            "orientation.bin_width (bin width of f(theta), rad)",
+            self.orientation.bin_width,
+            BIN_WIDTH,
+        )?;
+        in_range("rdf.dr (bin width of g(r), in D)", self.rdf.dr, RDF_DR)?;
+        in_range(
+            "rdf.r_max (largest r of g(r), in D)",
+            self.rdf.r_max,
+            RDF_R_MAX,
+        )?;
+        if self.rdf.r_max < 1.5 * self.rdf.dr {
+            bail!(
+                "rdf.r_max (largest r of g(r), in D) is {}, expected at least 1.5 bin widths \
+                 (rdf.dr = {}) to hold one bin",
+                self.rdf.r_max,
+                self.rdf.dr
+            );
+        }
+        in_range(
+            "rdf.margin (least distance of a reference grain from the area's edges, in D)",
+            self.rdf.margin,
+            RDF_MARGIN,
+        )?;
+        Ok(())
+    }
+
     pub fn w_over_d_for(&self, shape: Shape) -> f64 {
         self.w_over_d.unwrap_or(match shape {
             Shape::Square => 4.0,
@@ -81,6 +151,7 @@ pub fn analyse(
     let Some(first) = ensembles.first() else {
         anyhow::bail!("nothing to analyse: no deposits");
     };
+    parameters.validate()?;
     if examples.len() != ensembles.len() {
         anyhow::bail!(
             "{} example files for {} ensembles: give one per ensemble",
@@ -121,4 +192,12 @@ pub fn analyse(
         parameters: parameters.clone(),
         ensembles: out,
     })
+}
+
+/// An error naming `what` unless `value` is a finite number in [lo, hi].
+fn in_range(what: &str, value: f64, (lo, hi): (f64, f64)) -> anyhow::Result<()> {
+    if !(value.is_finite() && value >= lo && value <= hi) {
+        bail!("{what} is {value}, expected a finite number from {lo} to {hi}");
+    }
+    Ok(())
 }

@@ -56,7 +56,7 @@ pub struct Args {
     pub silo_width_mm: Option<f64>,
     /// Frame x_min,x_max,y_min,y_max (mm) of deposits without a sidecar (default: the whole
     /// width, floor to the top grain).
-    #[arg(long, value_delimiter = ',', num_args = 4)]
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     pub frame_mm: Option<Vec<f64>>,
     /// Source of deposits without a sidecar.
     #[arg(long, value_enum, default_value = "experiment")]
@@ -117,6 +117,21 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             files.len()
         );
     }
+    let parameters = AnalysisParameters {
+        w_over_d: args.w_over_d,
+        w_scan_over_d: args.w_scan.clone(),
+        cutoff: args.cutoff,
+        ..AnalysisParameters::default()
+    };
+    parameters.validate()?;
+    if let Some(f) = &args.frame_mm
+        && f.len() != 4
+    {
+        anyhow::bail!(
+            "--frame-mm has {} values, expected four: x_min,x_max,y_min,y_max (mm)",
+            f.len()
+        );
+    }
     let fallback = match (args.phi0, args.silo_width_mm) {
         (Some(phi0), Some(silo_width_mm)) => {
             let meta = DepositMeta {
@@ -135,9 +150,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     SourceArg::Simulation => Source::Simulation,
                 },
             };
-            meta.validate().context("in the command-line options")?;
+            meta.validate_options()?;
             Some(meta)
         }
+        (None, None) if args.frame_mm.is_some() => anyhow::bail!(
+            "--frame-mm is the frame of deposits without a sidecar: it needs --phi0 and \
+             --silo-width-mm"
+        ),
         (None, None) => None,
         _ => anyhow::bail!("--phi0 and --silo-width-mm go together"),
     };
@@ -174,12 +193,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (d.clone(), c.clone())
         })
         .collect();
-    let parameters = AnalysisParameters {
-        w_over_d: args.w_over_d,
-        w_scan_over_d: args.w_scan.clone(),
-        cutoff: args.cutoff,
-        ..AnalysisParameters::default()
-    };
     let progress = bar(ensembles.len(), "analysing");
     let summary = analyse(&ensembles, &examples, &parameters, &|k| {
         progress.set_position(k as u64)

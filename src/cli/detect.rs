@@ -57,6 +57,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .shortcuts()
         .apply(DetectParams::new(shape, args.px_per_mm * 1e3));
     params.min_confidence = args.min_confidence;
+    params.validate()?;
     let list = detection::collect_photos(&args.photos)?;
     if list.is_empty() {
         bail!("no PNG, TIFF or JPEG photographs found in the paths given");

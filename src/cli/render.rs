@@ -5,16 +5,13 @@ use std::path::PathBuf;
 use anyhow::{Context, bail};
 use clap::{Args as ClapArgs, ValueEnum};
 use image::ImageFormat;
+use vision::GrainShape;
 use vision::packing::{Packing, generate};
 use vision::render::{Style, render};
-use vision::{Frame, GrainShape};
 
 use facets::deposit::{read_deposit_csv, write_deposit_csv};
 use facets::io::write_atomic;
-use facets::photo::{Region, deposit_of, frame_deposit};
-
-/// Largest photograph rendered, in pixels (about 10 bytes a pixel of working memory: 1 GB).
-const MAX_PIXELS: f64 = 100e6;
+use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
 
 #[derive(Debug, ClapArgs)]
 #[command(
@@ -100,10 +97,6 @@ fn parse_frame(text: &str) -> Result<[f64; 4], String> {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    if !(args.px_per_mm.is_finite() && args.px_per_mm > 0.0) {
-        bail!("--px-per-mm {} : expected a positive scale", args.px_per_mm);
-    }
-    let scale = args.px_per_mm * 1e3;
     let style = Style::named(&args.style).context("unknown style")?;
     let mm = |v: [f64; 4]| Region {
         x0: v[0] * 1e-3,
@@ -123,13 +116,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                     )
                 })?,
             };
-            let frame = frame_of(&region, scale)?;
+            let frame = photograph_frame(&region, args.px_per_mm)?;
             let (outlines, truth) = frame_deposit(&deposit, &region, &frame);
             (outlines, truth, frame)
         }
         (None, Some(kind)) => {
             let region = mm(args.frame.unwrap_or([0.0, 0.0, 258.0, 120.0]));
-            let frame = frame_of(&region, scale)?;
+            let frame = photograph_frame(&region, args.px_per_mm)?;
             let shape = match kind {
                 Generated::Square => GrainShape::nut(6.9e-3),
                 Generated::Rod53 => GrainShape::Rod {
@@ -173,27 +166,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         truth_path.display()
     );
     Ok(())
-}
-
-fn frame_of(region: &Region, scale: f64) -> anyhow::Result<Frame> {
-    let frame = Frame {
-        width: region.width,
-        height: region.height,
-        scale,
-    };
-    let pixels = (region.width * scale).round() * (region.height * scale).round();
-    if pixels > MAX_PIXELS {
-        bail!(
-            "the photograph would have {:.0} Mpx (frame {:.1} x {:.1} mm at {:.2} px/mm); the limit is {:.0} Mpx: lower --px-per-mm or give a smaller --frame",
-            pixels / 1e6,
-            region.width * 1e3,
-            region.height * 1e3,
-            scale / 1e3,
-            MAX_PIXELS / 1e6
-        );
-    }
-    if frame.columns() == 0 || frame.rows() == 0 {
-        bail!("the frame is smaller than one pixel at this scale");
-    }
-    Ok(frame)
 }

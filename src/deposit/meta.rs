@@ -64,15 +64,27 @@ pub struct DepositMeta {
 impl DepositMeta {
     /// Checks the numbers, naming the field that is wrong.
     pub fn validate(&self) -> anyhow::Result<()> {
+        self.check(&|field| format!("field `{field}`"))
+    }
+
+    /// [`DepositMeta::validate`] of a sidecar given as command-line options (`--phi0`,
+    /// `--silo-width-mm`, `--frame-mm`), naming the option that is wrong.
+    pub fn validate_options(&self) -> anyhow::Result<()> {
+        self.check(&|field| format!("--{}", field.replace('_', "-")))
+    }
+
+    fn check(&self, name: &dyn Fn(&str) -> String) -> anyhow::Result<()> {
         if !(self.silo_width_mm.is_finite() && self.silo_width_mm > 80.0) {
             bail!(
-                "field `silo_width_mm` is {}, expected a width above 80 mm (40 mm are cut at each wall)",
+                "{} is {}, expected a width above 80 mm (40 mm are cut at each wall)",
+                name("silo_width_mm"),
                 self.silo_width_mm
             );
         }
         if !(self.phi0.is_finite() && self.phi0 > 0.0 && self.phi0 < 1.0) {
             bail!(
-                "field `phi0` is {}, expected a volume fraction in (0, 1)",
+                "{} is {}, expected a volume fraction in (0, 1)",
+                name("phi0"),
                 self.phi0
             );
         }
@@ -83,16 +95,19 @@ impl DepositMeta {
                 && f.x_max > f.x_min
                 && f.y_max > f.y_min;
             if !ok {
-                bail!("field `frame_mm` is {f:?}, expected finite x_min < x_max and y_min < y_max");
+                bail!(
+                    "{} is {f:?}, expected finite x_min < x_max and y_min < y_max",
+                    name("frame_mm")
+                );
             }
         }
-        for (name, v) in [
+        for (field, v) in [
             ("areal_density_kg_m2", self.areal_density_kg_m2),
             ("gravity_m_s2", self.gravity_m_s2),
         ] {
             if let Some(v) = v {
                 if !(v.is_finite() && v > 0.0) {
-                    bail!("field `{name}` is {v}, expected a positive number");
+                    bail!("{} is {v}, expected a positive number", name(field));
                 }
             }
         }

@@ -13,6 +13,10 @@ use crate::io::write_atomic;
 /// The rods of the experiments by nominal aspect ratio.
 const RODS: [(f64, GrainKind); 2] = [(5.0 / 3.0, GrainKind::ShortRod), (3.0, GrainKind::LongRod)];
 
+/// The longest rod accepted, in widths: 60 mm rods of 3 mm are no grains of these silos, and
+/// the detector's blocks and searches grow with the length.
+pub const MAX_ASPECT: f64 = 20.0;
+
 /// The grain outline for `--shape` and `--aspect`: squares are the experiment's nuts; rods
 /// of nominal aspect 5/3 or 3 are the experiment's 4.9 and 8.9 mm cylinders, any other
 /// aspect d gives a rod of length d x 3 mm.
@@ -23,8 +27,10 @@ pub fn grain_shape(square: bool, aspect: f64) -> anyhow::Result<GrainShape> {
     if square {
         return Ok(GrainShape::nut(GrainKind::Square.length()));
     }
-    if !(aspect.is_finite() && aspect >= 1.0) {
-        bail!("rod aspect ratio must be a number >= 1, got {aspect}");
+    if !(aspect.is_finite() && (1.0..=MAX_ASPECT).contains(&aspect)) {
+        bail!(
+            "--aspect (rod length / width) is {aspect}, expected a number from 1 to {MAX_ASPECT}"
+        );
     }
     let width = GrainKind::LongRod.width();
     let length = RODS
@@ -53,10 +59,12 @@ pub fn parse_aspect(text: &str) -> Result<f64, String> {
             .parse()
             .map_err(|_| format!("'{text}' is not a number"))?,
     };
-    if value.is_finite() && value >= 1.0 {
+    if value.is_finite() && (1.0..=MAX_ASPECT).contains(&value) {
         Ok(value)
     } else {
-        Err(format!("aspect ratio must be >= 1, got '{text}'"))
+        Err(format!(
+            "aspect ratio (rod length / width) must be a number from 1 to {MAX_ASPECT}, got '{text}'"
+        ))
     }
 }
 

@@ -1,6 +1,7 @@
 //! Between deposit tables and photographs: grain outlines from a deposit, and the truth table
 //! of a photograph.
 
+use anyhow::bail;
 use vision::{Frame, GrainOutline, GrainShape};
 
 use crate::deposit::{Deposit, Grain};
@@ -59,6 +60,60 @@ impl Region {
             height: b[3] - b[1],
         })
     }
+}
+
+/// Largest photograph rendered, in pixels (about 10 bytes a pixel of working memory: 1 GB).
+pub const MAX_PIXELS: f64 = 100e6;
+
+/// The frame of a photograph of `region` at `px_per_mm`, checked: a finite positive scale
+/// (`--px-per-mm`), a finite region of positive size (`--frame`), at least one pixel and at
+/// most [`MAX_PIXELS`].
+pub fn photograph_frame(region: &Region, px_per_mm: f64) -> anyhow::Result<Frame> {
+    if !(px_per_mm.is_finite() && px_per_mm > 0.0) {
+        bail!("--px-per-mm is {px_per_mm}, expected a finite scale above 0 (pixels per mm)");
+    }
+    let Region {
+        x0,
+        y0,
+        width,
+        height,
+    } = *region;
+    if !([x0, y0, width, height].iter().all(|v| v.is_finite()) && width > 0.0 && height > 0.0) {
+        bail!(
+            "--frame is {},{},{},{} mm, expected finite x0,y0,width,height with width and \
+             height above 0",
+            x0 * 1e3,
+            y0 * 1e3,
+            width * 1e3,
+            height * 1e3
+        );
+    }
+    let scale = px_per_mm * 1e3;
+    let frame = Frame {
+        width,
+        height,
+        scale,
+    };
+    let pixels = (width * scale).round() * (height * scale).round();
+    if pixels > MAX_PIXELS {
+        bail!(
+            "the photograph would have {:.0} Mpx (frame {:.1} x {:.1} mm at {px_per_mm:.2} px/mm); \
+             the limit is {:.0} Mpx: lower --px-per-mm or give a smaller --frame",
+            pixels / 1e6,
+            width * 1e3,
+            height * 1e3,
+            MAX_PIXELS / 1e6
+        );
+    }
+    if frame.columns() == 0 || frame.rows() == 0 {
+        bail!(
+            "the frame ({:.3} x {:.3} mm) is smaller than one pixel at {px_per_mm} px/mm \
+             (--px-per-mm, --frame)",
+            width * 1e3,
+            height * 1e3
+        );
+    }
+    Ok(frame)
 }
 
 /// Outlines of the deposit's grains that show in `region`, in frame coordinates (origin at the

@@ -225,6 +225,14 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
             limit_mpx: params.max_pixels as f64 / 1e6,
         });
     }
+    let width_px = params.shape.width() * params.scale;
+    if pixels > 0 && width_px > f64::from(width.max(height)) {
+        return Err(DetectError::InvalidParams(format!(
+            "at {:.2} px/mm (--px-per-mm) a grain is {width_px:.0} px wide, wider than the \
+             photograph ({width} x {height} px)",
+            params.scale * 1e-3
+        )));
+    }
     let mut phases = Phases::default();
     if pixels == 0 {
         return Ok(Report {
@@ -403,12 +411,25 @@ fn find(
     Ok((found, dark_area))
 }
 
+/// Most settling sweeps and finalists accepted: a bound so that a mistyped count cannot keep
+/// the detector busy for hours (each sweep refits every grain) or ask for memory without end.
+pub const MAX_SETTLE_SWEEPS: usize = 100;
+pub const MAX_FINALISTS: usize = 100;
+
+impl DetectParams {
+    /// Checks every number, naming the parameter (and the `facets detect` option that sets
+    /// it) and the range expected; [`detect_report`] refuses parameters that fail it.
+    pub fn validate(&self) -> Result<(), DetectError> {
+        validate(self)
+    }
+}
+
 fn validate(params: &DetectParams) -> Result<(), DetectError> {
     let bad = |m: String| Err(DetectError::InvalidParams(m));
     if !(params.scale.is_finite() && params.scale > 0.0) {
         return bad(format!(
-            "scale must be a positive number of px/m, got {}",
-            params.scale
+            "scale (--px-per-mm) is {} px/mm, expected a finite number above 0",
+            params.scale * 1e-3
         ));
     }
     let (l, w) = (params.shape.length(), params.shape.width());
@@ -427,15 +448,35 @@ fn validate(params: &DetectParams) -> Result<(), DetectError> {
     let width_px = w * params.scale;
     if width_px < 5.0 {
         return bad(format!(
-            "at {:.2} px/mm a grain is only {width_px:.1} px wide; at least 5 px are needed",
+            "at {:.2} px/mm (--px-per-mm) a grain is only {width_px:.1} px wide; at least 5 px \
+             are needed",
             params.scale * 1e-3
         ));
     }
-    if !(0.0..=1.0).contains(&params.min_confidence) || !(0.0..=1.0).contains(&params.min_visible) {
-        return bad("min_confidence and min_visible must lie in [0, 1]".into());
+    if !(0.0..=1.0).contains(&params.min_confidence) {
+        return bad(format!(
+            "min_confidence (--min-confidence) is {}, expected a number from 0 to 1",
+            params.min_confidence
+        ));
     }
-    if params.finalists == 0 {
-        return bad("finalists must be at least 1: a fit refines its best coarse pose".into());
+    if !(0.0..=1.0).contains(&params.min_visible) {
+        return bad(format!(
+            "min_visible is {}, expected a fraction from 0 to 1",
+            params.min_visible
+        ));
+    }
+    if !(1..=MAX_FINALISTS).contains(&params.finalists) {
+        return bad(format!(
+            "finalists (--finalists) is {}, expected 1 to {MAX_FINALISTS}: a fit refines at \
+             least its best coarse pose",
+            params.finalists
+        ));
+    }
+    if params.settle_sweeps > MAX_SETTLE_SWEEPS {
+        return bad(format!(
+            "settle_sweeps (--settle-sweeps) is {}, expected 0 to {MAX_SETTLE_SWEEPS}",
+            params.settle_sweeps
+        ));
     }
     Ok(())
 }
