@@ -87,6 +87,13 @@ fn rough_walls_lie_behind_the_silo_outline_within_their_roughness() {
             "wall {wall}: nearest grain {d} m behind the line"
         );
     }
+    // Behind them, flat walls at the deepest recess keep a grain squeezed between two wall
+    // grains at impact inside the silo.
+    let walls = silo.world.walls();
+    assert_eq!(walls.len(), 3);
+    assert!((walls[facets::fill::FLOOR].distance(sim::Vec2::new(0.0, -5e-3))).abs() < 1e-15);
+    assert!((walls[facets::fill::LEFT_WALL].distance(sim::Vec2::new(-5e-3, 0.0))).abs() < 1e-15);
+    assert!((walls[facets::fill::RIGHT_WALL].distance(sim::Vec2::new(0.053, 0.0))).abs() < 1e-15);
     // A grain every half width along 150 mm of each side wall.
     let on_left = silo
         .wall_of

@@ -43,10 +43,19 @@ impl Silo {
             ..WorldSettings::default()
         })
         .context("in the scene's [contact] or [run] section")?;
-        if scene.silo.walls == WallKind::Flat {
-            world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(0.0, 1.0)))?;
-            world.add_wall(Wall::new(Vec2::zeros(), Vec2::new(1.0, 0.0)))?;
-            world.add_wall(Wall::new(Vec2::new(width, 0.0), Vec2::new(-1.0, 0.0)))?;
+        let roughness = scene.silo.roughness_mm.map_or(g.width(), |r| r * mm);
+        // Rough walls stand in front of flat ones at their deepest recess: at the rain's
+        // impact speeds grains overlap by up to a millimetre, and one squeezed between two
+        // wall grains would otherwise fall out of the silo.
+        let behind = match scene.silo.walls {
+            WallKind::Flat => Some(0.0),
+            WallKind::Rough => Some(roughness),
+            WallKind::Grains => None,
+        };
+        if let Some(d) = behind {
+            world.add_wall(Wall::new(Vec2::new(0.0, -d), Vec2::new(0.0, 1.0)))?;
+            world.add_wall(Wall::new(Vec2::new(-d, 0.0), Vec2::new(1.0, 0.0)))?;
+            world.add_wall(Wall::new(Vec2::new(width + d, 0.0), Vec2::new(-1.0, 0.0)))?;
         }
         let outline =
             Spheropolygon::rounded_rectangle(g.length(), g.width(), g.rounding() * g.width())
@@ -77,7 +86,7 @@ impl Silo {
                 shape,
                 [g.length(), g.width(), g.rounding() * g.width()],
                 [width, height],
-                scene.silo.roughness_mm.map_or(g.width(), |r| r * mm),
+                roughness,
                 seed,
             )?,
         };
