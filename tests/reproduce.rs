@@ -251,7 +251,11 @@ fn check_pressure(summary: &Path) {
         "{}: -sigma_yy at depth = {deepest}",
         summary.display()
     );
-    let cap = 1.1 * full.iter().copied().fold(0.0, f64::max);
+    // Not a law: arches can load the centre line beyond its own column. The study sees the
+    // pressure exceed the overburden at its fastest feeds, and facets' rough-walled squares at
+    // phi0 = 0.47 give 1.2 of it at paper scale. Half as much again bounds a stress computed
+    // right without hiding one that is off by a factor.
+    let cap = 1.5 * full.iter().copied().fold(0.0, f64::max);
     for (k, v) in yy.iter().enumerate() {
         assert!(
             -v <= cap,
