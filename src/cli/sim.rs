@@ -1,9 +1,8 @@
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar};
 use rayon::prelude::*;
 
 use facets::fill::{
@@ -46,9 +45,6 @@ pub struct Args {
     pub resume: Vec<PathBuf>,
 }
 
-/// Set by Ctrl-C: the runs stop at their next step boundary and write checkpoints.
-static INTERRUPT: AtomicBool = AtomicBool::new(false);
-
 /// One run to do: its seed, its folder and the checkpoint it continues.
 struct Job {
     seed: u64,
@@ -82,18 +78,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     for job in &jobs {
         check_writable(&job.dir)?;
     }
-    ctrlc::set_handler(|| {
-        if INTERRUPT.swap(true, Ordering::SeqCst) {
-            std::process::exit(130);
-        }
-    })
-    .context("cannot install the Ctrl-C handler")?;
+    super::progress::stop_fillings_on_ctrl_c()?;
     let bars = MultiProgress::new();
-    let style = ProgressStyle::with_template(
-        "{prefix:>10} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
-    )
-    .unwrap_or_else(|_| ProgressStyle::default_bar())
-    .progress_chars("=> ");
+    let style = super::progress::filling_style(10);
     let outcomes: Vec<(u64, PathBuf, anyhow::Result<FillOutcome>)> = jobs
         .into_par_iter()
         .map(|job| {
@@ -125,7 +112,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             let control = FillControl {
                 resume: job.resume,
                 stop: StopAt::Never,
-                interrupt: Some(&INTERRUPT),
+                interrupt: Some(&super::progress::INTERRUPT),
             };
             let outcome = fill_with(&scene, seed, &job.dir, control, &mut update)
                 .with_context(|| format!("run seed {seed} ({})", args.scene.display()));

@@ -1,11 +1,9 @@
 use std::collections::HashMap;
 use std::path::PathBuf;
 use std::sync::Mutex;
-use std::sync::atomic::{AtomicBool, Ordering};
 
-use anyhow::Context;
 use clap::Args as ClapArgs;
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
+use indicatif::{MultiProgress, ProgressBar};
 
 use facets::validate::run::RunEvent;
 use facets::validate::{Options, Progress, validate};
@@ -40,9 +38,6 @@ pub struct Args {
     pub report_only: bool,
 }
 
-/// Set by Ctrl-C: the runs stop at their next step boundary and write checkpoints.
-static INTERRUPT: AtomicBool = AtomicBool::new(false);
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let options = Options {
         study: args.study,
@@ -51,19 +46,10 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         report_only: args.report_only,
     };
     if !options.report_only {
-        ctrlc::set_handler(|| {
-            if INTERRUPT.swap(true, Ordering::SeqCst) {
-                std::process::exit(130);
-            }
-        })
-        .context("cannot install the Ctrl-C handler")?;
+        super::progress::stop_fillings_on_ctrl_c()?;
     }
     let bars = MultiProgress::new();
-    let style = ProgressStyle::with_template(
-        "{prefix:>24} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
-    )
-    .unwrap_or_else(|_| ProgressStyle::default_bar())
-    .progress_chars("=> ");
+    let style = super::progress::filling_style(24);
     let running: Mutex<HashMap<(String, u64), ProgressBar>> = Mutex::new(HashMap::new());
     let measuring = bars.add(super::progress::bar(0, "measuring"));
     let progress = |p: Progress| match p {
@@ -106,7 +92,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             measuring.set_position(done as u64);
         }
     };
-    let outcome = validate(&options, Some(&INTERRUPT), &progress)?;
+    let outcome = validate(&options, Some(&super::progress::INTERRUPT), &progress)?;
     measuring.finish_and_clear();
     let runs = &outcome.runs;
     if !runs.stopped.is_empty() {
