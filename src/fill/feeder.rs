@@ -28,6 +28,10 @@ pub struct Rain {
     pub speed: f64,
     pub band_height: f64,
     pub total: usize,
+    /// Each velocity component's largest kick, as a fraction of `speed`.
+    pub speed_spread: f64,
+    /// Largest spin (rad/s).
+    pub spin: f64,
 }
 
 /// The rain's schedule and its random stream.
@@ -100,6 +104,27 @@ impl Feeder {
         ((self.rate() * (time + self.period())).floor() as usize).min(self.total)
     }
 
+    /// Velocity and spin of the grain inserted `index`-th. Drawn from a stream of its own per
+    /// grain, keyed by the placement stream's seed (restored with it), so the kicks neither
+    /// shift the placement nor need a state of their own, and a run with kicks pours the same
+    /// grains at the same places as one without.
+    pub fn launch(&self, index: usize) -> (Vec2, f64) {
+        let down = Vec2::new(0.0, -self.speed);
+        if self.speed_spread == 0.0 && self.spin == 0.0 {
+            return (down, 0.0);
+        }
+        let mut key = self.rng.get_seed();
+        for (k, b) in key.iter_mut().zip(LAUNCH_STREAM.to_le_bytes()) {
+            *k ^= b;
+        }
+        let mut rng = ChaCha8Rng::from_seed(key);
+        rng.set_stream(index as u64);
+        let mut symmetric = || 2.0 * rng.random::<f64>() - 1.0;
+        let kick = self.speed_spread * self.speed;
+        let velocity = down + Vec2::new(kick * symmetric(), kick * symmetric());
+        (velocity, self.spin * symmetric())
+    }
+
     /// New grains (centre, angle) for the band whose bottom is at `bottom`, avoiding the
     /// grains already there (`existing`). Grains that find no room wait for the next band.
     pub fn band(&mut self, time: f64, bottom: f64, existing: &[Placed]) -> Vec<(Vec2, f64)> {
@@ -141,6 +166,9 @@ impl Feeder {
         }
     }
 }
+
+/// Mixed into the run's seed for the grains' launch kicks.
+const LAUNCH_STREAM: u64 = 0x6c61_756e_6368_6b69;
 
 /// Random sequential placement of up to `wanted` rectangles with centres in the band
 /// [bottom, bottom + height) and outlines inside the side walls.
@@ -238,6 +266,8 @@ mod tests {
                 speed: 3.5,
                 band_height: 0.04,
                 total: 3000,
+                speed_spread: 0.0,
+                spin: 0.0,
             },
             1,
         )
@@ -289,6 +319,36 @@ mod tests {
         assert_eq!(b.band(a.period(), 0.3, &[]), next);
         assert_ne!(fresh, next);
         assert_eq!(a.state(), b.state());
+    }
+
+    #[test]
+    fn launch_kicks_stay_in_their_bounds_and_leave_the_placement_alone() {
+        let still = squares(0.1);
+        assert_eq!(still.launch(7), (Vec2::new(0.0, -3.5), 0.0));
+        let mut rain = still.rain;
+        rain.speed_spread = 0.2;
+        rain.spin = 50.0;
+        let mut kicked = Feeder::new(rain, 1);
+        let (n, mut mean_vy, mut mean_vx, mut mean_spin) = (4000, 0.0, 0.0, 0.0);
+        for i in 0..n {
+            let (v, w) = kicked.launch(i);
+            assert!((v.x.abs() <= 0.7) && ((v.y + 3.5).abs() <= 0.7), "{v:?}");
+            assert!(w.abs() <= 50.0);
+            mean_vx += v.x / n as f64;
+            mean_vy += v.y / n as f64;
+            mean_spin += w / n as f64;
+        }
+        // Uniform kicks of half-width a: the mean's standard error is a / sqrt(3 n); 4 of them.
+        let se = |a: f64| a / (3.0 * n as f64).sqrt();
+        assert!(mean_vx.abs() < 4.0 * se(0.7) && (mean_vy + 3.5).abs() < 4.0 * se(0.7));
+        assert!(mean_spin.abs() < 4.0 * se(50.0));
+        assert_ne!(kicked.launch(1), kicked.launch(2));
+        let before = kicked.launch(3);
+        // The same band with and without kicks; a restored feeder launches as the original.
+        assert_eq!(kicked.band(0.0, 0.1, &[]), squares(0.1).band(0.0, 0.1, &[]));
+        let mut other = Feeder::new(rain, 99);
+        other.restore(&kicked.state());
+        assert_eq!(other.launch(3), before);
     }
 
     #[test]

@@ -391,16 +391,17 @@ fn insert_band(silo: &mut Silo) -> anyhow::Result<usize> {
         })
         .collect();
     let time = world.time();
+    let first = silo.feeder.inserted;
     let new = silo.feeder.band(time, bottom, &existing);
-    let velocity = Vec2::new(0.0, -silo.feeder.speed);
-    for &(position, angle) in &new {
+    for (k, &(position, angle)) in new.iter().enumerate() {
+        let (velocity, angular_velocity) = silo.feeder.launch(first + k);
         silo.world.add_grain(
             silo.shape,
             GrainState {
                 position,
                 angle,
                 velocity,
-                angular_velocity: 0.0,
+                angular_velocity,
             },
         )?;
     }

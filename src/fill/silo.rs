@@ -100,6 +100,8 @@ impl Silo {
                 speed: scene.feed.speed_m_s,
                 band_height,
                 total: g.count,
+                speed_spread: scene.feed.speed_spread,
+                spin: scene.feed.spin_rad_s,
             },
             seed,
         );

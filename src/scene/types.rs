@@ -165,6 +165,15 @@ pub struct FeedSection {
     /// Height of the insertion band (mm). Default: four bounding diameters of the grain.
     #[serde(default)]
     pub band_height_mm: Option<f64>,
+    /// Spread of the inserted grains' velocity, as a fraction of `speed_m_s`: each component gets
+    /// an independent uniform kick in [-s, s] x speed. Default 0 (all fall straight down at the
+    /// inflow speed). Grains leaving a hopper collide on their way down and arrive scattered.
+    #[serde(default)]
+    pub speed_spread: f64,
+    /// Largest spin of the inserted grains (rad/s): each spins at a uniform rate in
+    /// [-spin, spin]. Default 0.
+    #[serde(default)]
+    pub spin_rad_s: f64,
 }
 
 fn default_speed() -> f64 {

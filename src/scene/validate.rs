@@ -135,6 +135,17 @@ pub fn validate(s: &Scene) -> Result<(), Invalid> {
     }
     positive("feed", "speed_m_s", f.speed_m_s, "m/s")?;
     non_negative("feed", "gap_mm", f.gap_mm, "mm")?;
+    if !(f.speed_spread.is_finite() && (0.0..1.0).contains(&f.speed_spread)) {
+        return Err(invalid(
+            "feed",
+            "speed_spread",
+            format!(
+                "is {}, expected a fraction of the inflow speed in [0, 1)",
+                f.speed_spread
+            ),
+        ));
+    }
+    non_negative("feed", "spin_rad_s", f.spin_rad_s, "rad/s")?;
     if let Some(h) = f.band_height_mm {
         positive("feed", "band_height_mm", h, "mm")?;
         if h < length {
