@@ -40,7 +40,7 @@ fn scene() -> Scene {
 
 /// The files of a run folder, run.json without its wall time.
 fn files(dir: &Path) -> Vec<(String, Vec<u8>)> {
-    let mut names: Vec<PathBuf> = ["deposit.csv", "deposit.contacts.csv", "grains.vtk"]
+    let mut names: Vec<PathBuf> = ["deposit.csv", "deposit.contacts.csv", "grains.vtu"]
         .iter()
         .map(|n| dir.join(n))
         .collect();
@@ -150,7 +150,7 @@ fn stopped_and_resumed_runs_write_the_same_files() {
     fill_with(&scene, 3, later.path(), control, &mut |_| {}).unwrap();
     let before_checkpoint = |name: &str| {
         name.strip_prefix("snapshots/step-")
-            .and_then(|s| s.strip_suffix(".vtk"))
+            .and_then(|s| s.strip_suffix(".vtu"))
             .is_some_and(|s| s.parse::<u64>().unwrap() <= checkpoint_step)
     };
     let whole_files: Vec<_> = files(whole.path())
@@ -267,7 +267,7 @@ fn ctrl_c_writes_a_checkpoint_that_resumes_to_the_same_files() {
     assert!(!stopped.join("seed-1/deposit.csv").exists(), "{e}");
 
     facets().arg("--resume").arg(&periodic).output().unwrap();
-    for name in ["deposit.csv", "deposit.contacts.csv", "grains.vtk"] {
+    for name in ["deposit.csv", "deposit.contacts.csv", "grains.vtu"] {
         let a = std::fs::read(whole.join("seed-1").join(name)).unwrap();
         let b = std::fs::read(stopped.join("seed-1").join(name)).unwrap();
         assert!(a == b, "{name}: the resumed run differs");

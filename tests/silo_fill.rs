@@ -154,7 +154,7 @@ fn same_seed_same_files() {
         "deposit.csv",
         "deposit.contacts.csv",
         "deposit.meta.json",
-        "grains.vtk",
+        "grains.vtu",
     ] {
         let x = std::fs::read(a.path().join(name)).unwrap();
         let y = std::fs::read(b.path().join(name)).unwrap();

@@ -78,7 +78,7 @@ fn a_tiny_study_runs_reports_and_resumes() {
                 "deposit.csv",
                 "deposit.contacts.csv",
                 "deposit.meta.json",
-                "grains.vtk",
+                "grains.vtu",
                 "run.json",
                 "scene.toml",
             ] {

@@ -15,8 +15,8 @@ use facets::scene::{Scene, load_scene};
 /// Each run writes into DIR/seed-N/: deposit.csv (grains, mm, x from the left wall, y from the
 /// floor), deposit.contacts.csv (one row per sub-contact: i,j,fx_N,fy_N,cx_mm,cy_mm; j = -1
 /// left wall, -2 right wall, -3 floor), deposit.meta.json (read by `facets analyse`),
-/// grains.vtk (ParaView) and run.json (scene, seed, steps, wall time, energies, packing
-/// fraction); snapshots/step-N.vtk when the scene asks for them.
+/// grains.vtu (VTK, mm: ParaView, meshio) and run.json (scene, seed, steps, wall time, energies,
+/// packing fraction); snapshots/step-N.vtu when the scene asks for them.
 ///
 /// Ctrl-C stops every run at its next step boundary, writes DIR/seed-N/checkpoint.bin, prints
 /// the command that resumes them and exits with status 130 (a second Ctrl-C exits at once).

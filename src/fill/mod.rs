@@ -3,8 +3,9 @@
 //! the analysis reads, a VTK file and the run record.
 //!
 //! Files of a run folder: `deposit.csv`, `deposit.contacts.csv`, `deposit.meta.json` (read by
-//! `facets analyse`), `grains.vtk` (ParaView), `run.json`, and `snapshots/step-N.vtk` on request;
-//! `checkpoint.bin` when the run is stopped (Ctrl-C) or asked for periodic checkpoints.
+//! `facets analyse`), `grains.vtu` (VTK for ParaView, meshio), `run.json`, and
+//! `snapshots/step-N.vtu` on request; `checkpoint.bin` when the run is stopped (Ctrl-C) or asked
+//! for periodic checkpoints.
 
 mod checkpoint;
 mod feeder;
@@ -25,4 +26,4 @@ pub use run::{
     FillControl, FillOutcome, FillProgress, STEPS_BETWEEN_STOP_CHECKS, StopAt, fill, fill_with,
 };
 pub use silo::{FLOOR, LEFT_WALL, RIGHT_WALL, Silo};
-pub use vtk::write_vtk;
+pub use vtk::{GRAINS_VTK, write_vtk};

@@ -2,11 +2,11 @@ use std::io::Write;
 use std::path::Path;
 
 use anyhow::Context;
-use sim::Body;
+use sim::{Body, World};
 
 use super::record::RunRecord;
 use super::silo::{FLOOR, LEFT_WALL, RIGHT_WALL, Silo};
-use super::vtk::write_vtk;
+use super::vtk::{GRAINS_VTK, write_vtk};
 use crate::deposit::{
     AnalysedArea, Contact, Deposit, DepositMeta, FrameMm, Grain, Partner, Source, Wall,
     write_contacts_csv, write_deposit_csv, write_meta_json,
@@ -31,15 +31,18 @@ pub fn check_writable(dir: &Path) -> anyhow::Result<()> {
 /// The poured grains of a silo as a deposit table (x from the left wall, y from the floor,
 /// theta folded by the outline's symmetry); fixed wall grains are not part of it.
 pub fn deposit_of(silo: &Silo, length: f64, width: f64) -> Deposit {
-    let world = &silo.world;
     let grains = silo
         .deposit_grains()
-        .map(|i| {
-            let g = world.grain(i);
-            Grain::placed(g.position.x, g.position.y, g.angle, length, width).folded()
-        })
+        .map(|i| pose_of(&silo.world, i, length, width))
         .collect();
     Deposit { grains }
+}
+
+/// Grain i of `world` (outline `length` x `width`) as a deposit row: centre and theta folded by
+/// the outline's symmetry, as the deposit table and the VTK file write it.
+pub(crate) fn pose_of(world: &World, i: usize, length: f64, width: f64) -> Grain {
+    let g = world.grain(i);
+    Grain::placed(g.position.x, g.position.y, g.angle, length, width).folded()
 }
 
 /// One row per sub-contact, the force on the first grain; each touching pair appears once. A
@@ -53,16 +56,23 @@ fn contacts_of(silo: &Silo) -> Vec<Contact> {
                 i,
                 partner: match other {
                     Body::Grain(j) => Partner::Grain(j),
-                    Body::Wall(LEFT_WALL) => Partner::Wall(Wall::Left),
-                    Body::Wall(RIGHT_WALL) => Partner::Wall(Wall::Right),
-                    Body::Wall(FLOOR) => Partner::Wall(Wall::Floor),
-                    Body::Wall(k) => unreachable!("the silo has three walls, not {k}"),
+                    Body::Wall(k) => Partner::Wall(deposit_wall(k)),
                 },
                 force: [force.x, force.y],
                 point: [c.point.x, c.point.y],
             }
         })
         .collect()
+}
+
+/// The deposit's name of the silo's wall k (FLOOR, LEFT_WALL or RIGHT_WALL).
+pub(crate) fn deposit_wall(k: usize) -> Wall {
+    match k {
+        LEFT_WALL => Wall::Left,
+        RIGHT_WALL => Wall::Right,
+        FLOOR => Wall::Floor,
+        k => unreachable!("the silo has three walls, not {k}"),
+    }
 }
 
 /// The frame the analysis reads: region E, or the whole deposit (mm).
@@ -122,7 +132,12 @@ pub(crate) fn write_outputs(out: &Path, silo: &Silo, record: &mut RunRecord) -> 
         source: Source::Simulation,
     };
     write_meta_json(&crate::deposit::meta_path(&table), &meta)?;
-    write_vtk(&out.join("grains.vtk"), world)?;
+    write_vtk(
+        &out.join(GRAINS_VTK),
+        silo,
+        scene.grains.length(),
+        scene.grains.width(),
+    )?;
     write_atomic(&out.join("run.json"), |w| {
         serde_json::to_writer_pretty(&mut *w, record)?;
         Ok(())

@@ -214,8 +214,8 @@ pub fn fill_with(
         if world.steps() == st.stretch_end {
             if let Some(k) = snapshot_every {
                 if world.steps() % k == 0 {
-                    let path = out.join(format!("snapshots/step-{:09}.vtk", world.steps()));
-                    write_vtk(&path, world)?;
+                    let path = out.join(format!("snapshots/step-{:09}.vtu", world.steps()));
+                    write_vtk(&path, &silo, scene.grains.length(), scene.grains.width())?;
                 }
             }
             if world.steps() % check_steps == 0 {
