@@ -34,3 +34,14 @@ where
 pub fn plot_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
     anyhow::anyhow!("drawing failed: {e:?}")
 }
+
+/// A tick label without trailing zeros (10, 2.5, 0.05), in exponent form for magnitudes below
+/// 1e-3 where decimals would read 0.
+pub fn tick_label(x: &f64) -> String {
+    if *x != 0.0 && x.abs() < 1e-3 {
+        return format!("{x:.1e}");
+    }
+    let s = format!("{x:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" { "0".into() } else { s.into() }
+}

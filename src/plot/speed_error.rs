@@ -4,10 +4,12 @@
 
 use std::path::Path;
 
+use plotters::coord::combinators::{BindKeyPoints, LogCoord, WithKeyPoints};
 use plotters::prelude::*;
 
 use super::chart::palette;
-use super::png::{plot_error, render_png};
+use super::legend::{Line, Look, Marker, draw_legend, legend_width};
+use super::png::{plot_error, render_png, tick_label};
 
 #[derive(Clone, Debug)]
 pub struct SpeedErrorPoint {
@@ -45,32 +47,50 @@ pub fn write_speed_error(
     let y1 = shown
         .iter()
         .fold(1.5 * threshold, |m, p| m.max(1.1 * p.deviation));
-    render_png(png, (1000, 700), |root| {
-        let mut ctx = ChartBuilder::on(root)
+    let mut entries = vec![(
+        format!("{threshold} standard errors"),
+        Look {
+            colour: BLACK,
+            line: Line::Dashed(2),
+            marker: Marker::None,
+        },
+    )];
+    entries.extend(groups.iter().enumerate().map(|(k, g)| {
+        let look = Look {
+            colour: palette(k),
+            line: Line::None,
+            marker: Marker::Circle,
+        };
+        (g.to_string(), look)
+    }));
+    let legend = legend_width(&entries)?;
+    render_png(png, (1000 + legend, 700), |root| {
+        let (plot, side) = root.split_horizontally(1000);
+        let mut ctx = ChartBuilder::on(&plot)
             .caption(title, ("sans-serif", 26))
             .margin(15)
             .x_label_area_size(50)
             .y_label_area_size(80)
-            .build_cartesian_2d((x0..x1).log_scale(), 0.0..y1)
+            .build_cartesian_2d(speed_axis(x0, x1), 0.0..y1)
             .map_err(plot_error)?;
         ctx.configure_mesh()
-            .x_labels(8)
-            .x_label_formatter(&|x| tidy(*x))
+            .x_label_formatter(&|x| tick_label(x))
+            .y_label_formatter(&|y| tick_label(y))
             .x_desc("speed-up over the paper-faithful settings (CPU time)")
             .y_desc("largest deviation (standard errors)")
             .label_style(("sans-serif", 16))
             .axis_desc_style(("sans-serif", 20))
+            .bold_line_style(BLACK.mix(0.12))
+            .light_line_style(TRANSPARENT)
             .draw()
             .map_err(plot_error)?;
         ctx.draw_series(DashedLineSeries::new(
             vec![(x0, threshold), (x1, threshold)],
-            8,
-            5,
+            12,
+            7,
             BLACK.stroke_width(2),
         ))
-        .map_err(plot_error)?
-        .label(format!("{threshold} standard errors"))
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], BLACK.stroke_width(2)));
+        .map_err(plot_error)?;
         for (k, group) in groups.iter().enumerate() {
             let colour = palette(k);
             let mine: Vec<&&SpeedErrorPoint> = shown.iter().filter(|p| p.group == *group).collect();
@@ -78,28 +98,24 @@ pub fn write_speed_error(
                 mine.iter()
                     .map(|p| Circle::new((p.speed_up, p.deviation), 6, colour.filled())),
             )
-            .map_err(plot_error)?
-            .label(*group)
-            .legend(move |(x, y)| Circle::new((x + 10, y), 6, colour.filled()));
+            .map_err(plot_error)?;
             ctx.draw_series(mine.iter().map(|p| {
                 EmptyElement::at((p.speed_up, p.deviation))
                     + Text::new(p.label.clone(), (8, -8), ("sans-serif", 14).into_font())
             }))
             .map_err(plot_error)?;
         }
-        ctx.configure_series_labels()
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .label_font(("sans-serif", 16))
-            .position(SeriesLabelPosition::UpperLeft)
-            .draw()
-            .map_err(plot_error)?;
-        Ok(())
+        let top = ctx.plotting_area().get_pixel_range().1.start;
+        draw_legend(&side, &entries, top)
     })
 }
 
-/// A tick value without trailing zeros (10, 2.5, 0.75).
-fn tidy(x: f64) -> String {
-    let s = format!("{x:.2}");
-    s.trim_end_matches('0').trim_end_matches('.').to_string()
+/// The log axis of speed-ups with ticks at 1, 2, 5 times the powers of ten within it (the
+/// powers of ten alone leave a narrow range with one tick).
+fn speed_axis(x0: f64, x1: f64) -> WithKeyPoints<LogCoord<f64>> {
+    let ticks: Vec<f64> = (-3..=4)
+        .flat_map(|p| [1.0, 2.0, 5.0].map(|m| m * 10f64.powi(p)))
+        .filter(|t| (x0..=x1).contains(t))
+        .collect();
+    LogCoord::from((x0..x1).log_scale()).with_key_points(ticks)
 }
