@@ -54,6 +54,18 @@ impl GrainKind {
         Spheropolygon::rounded_rectangle(self.length(), self.width(), rounding * self.width())
     }
 
+    /// The outline the photograph tools draw and seek (`vision`): the nut with its hole for
+    /// squares, the rectangle for rods.
+    pub fn photographed(self) -> vision::GrainShape {
+        match self {
+            GrainKind::Square => vision::GrainShape::nut(self.length()),
+            GrainKind::ShortRod | GrainKind::LongRod => vision::GrainShape::Rod {
+                length: self.length(),
+                width: self.width(),
+            },
+        }
+    }
+
     /// Short name used on the command line and in file names.
     pub fn name(self) -> &'static str {
         match self {

@@ -5,7 +5,8 @@ use clap::Args as ClapArgs;
 
 use facets::analysis::summary::{AnalysisParameters, analyse};
 use facets::deposit::{
-    DepositMeta, Ensemble, FrameMm, LoadOptions, Source, contacts_path, load_realisation,
+    DepositMeta, Ensemble, FrameMm, LoadOptions, Source, contacts_path, deposit_tables,
+    load_realisation,
 };
 use facets::io::write_atomic;
 use facets::plot::write_figures;
@@ -37,8 +38,9 @@ use super::progress::bar;
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Deposit tables (CSV), or folders whose *.csv deposit tables are all taken (files named
-    /// *.contacts.csv and *.grains.csv are sidecars, not deposits).
+    /// Deposit tables (CSV), or folders: a folder gives its *.csv deposit tables (files named
+    /// *.contacts.csv and *.grains.csv are sidecars, not deposits) and those of its seed-N/
+    /// folders (an ensemble as `facets sim --realisations` writes it).
     #[arg(required = true)]
     pub deposits: Vec<PathBuf>,
     /// Contact tables, one per deposit in the same order (default: NAME.contacts.csv when it
@@ -54,10 +56,11 @@ pub struct Args {
     /// Silo width W (mm) of deposits without a sidecar.
     #[arg(long)]
     pub silo_width_mm: Option<f64>,
-    /// Frame x_min,x_max,y_min,y_max (mm) of deposits without a sidecar (default: the whole
-    /// width, floor to the top grain).
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    pub frame_mm: Option<Vec<f64>>,
+    /// Frame of deposits without a sidecar: x_min,x_max,y_min,y_max in mm, x from the left
+    /// wall, y from the floor (as every command's --frame-mm). Default: the whole width, floor
+    /// to the top grain.
+    #[arg(long, value_name = "X_MIN,X_MAX,Y_MIN,Y_MAX", value_parser = FrameMm::parse, allow_hyphen_values = true)]
+    pub frame_mm: Option<FrameMm>,
     /// Source of deposits without a sidecar.
     #[arg(long, value_enum, default_value = "experiment")]
     pub source: SourceArg,
@@ -79,37 +82,8 @@ pub enum SourceArg {
     Simulation,
 }
 
-/// Deposit tables under the arguments, folders expanded (sorted, sidecars skipped).
-pub fn expand(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                .with_context(|| format!("cannot list {}", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| {
-                    let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
-                    name.is_some_and(|n| {
-                        n.ends_with(".csv")
-                            && !n.ends_with(".contacts.csv")
-                            && !n.ends_with(".grains.csv")
-                    })
-                })
-                .collect();
-            found.sort();
-            if found.is_empty() {
-                anyhow::bail!("{}: no deposit tables (*.csv) in this folder", p.display());
-            }
-            out.extend(found);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let files = expand(&args.deposits)?;
+    let files = deposit_tables(&args.deposits)?;
     if !args.contacts.is_empty() && args.contacts.len() != files.len() {
         anyhow::bail!(
             "--contacts gives {} tables for {} deposits: give one per deposit, in the same order",
@@ -124,25 +98,12 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..AnalysisParameters::default()
     };
     parameters.validate()?;
-    if let Some(f) = &args.frame_mm
-        && f.len() != 4
-    {
-        anyhow::bail!(
-            "--frame-mm has {} values, expected four: x_min,x_max,y_min,y_max (mm)",
-            f.len()
-        );
-    }
     let fallback = match (args.phi0, args.silo_width_mm) {
         (Some(phi0), Some(silo_width_mm)) => {
             let meta = DepositMeta {
                 silo_width_mm,
                 phi0,
-                frame_mm: args.frame_mm.as_ref().map(|f| FrameMm {
-                    x_min: f[0],
-                    x_max: f[1],
-                    y_min: f[2],
-                    y_max: f[3],
-                }),
+                frame_mm: args.frame_mm,
                 areal_density_kg_m2: None,
                 gravity_m_s2: None,
                 source: match args.source {

@@ -9,7 +9,7 @@ use vision::GrainShape;
 use vision::packing::{Packing, generate};
 use vision::render::{Style, render};
 
-use facets::deposit::{read_deposit_csv, write_deposit_csv};
+use facets::deposit::{FrameMm, read_deposit_csv, write_deposit_csv};
 use facets::io::write_atomic;
 use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
 
@@ -18,7 +18,7 @@ use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
     after_help = "Writes the photograph (PNG) and, beside it, its ground truth: \
 PHOTO.truth.csv with the grains that show in the frame, coordinates relative to the frame's \
 bottom-left corner (mm, y up), angles folded by symmetry, and cut = 1 for grains the frame cuts.\n\n\
-Examples:\n  facets render deposit.csv --px-per-mm 10 --frame 0,290,258,120 --out photo.png\n  \
+Examples:\n  facets render deposit.csv --px-per-mm 10 --frame-mm 0,258,290,410 --out photo.png\n  \
 facets render --generate rod3 --packing ordered --px-per-mm 6 --style hard --out rods.png"
 )]
 pub struct Args {
@@ -45,11 +45,11 @@ pub struct Args {
     #[arg(long)]
     out: PathBuf,
 
-    /// Region photographed, x0,y0,width,height in mm of the deposit's coordinates (bottom-left
-    /// corner and size). Default: around all grains of a deposit; 0,0,258,120 for a generated
-    /// packing (whose position does not matter: only width and height count).
-    #[arg(long, value_parser = parse_frame)]
-    frame: Option<[f64; 4]>,
+    /// Region photographed, x_min,x_max,y_min,y_max in mm of the deposit's coordinates (as
+    /// every command's --frame-mm). Default: around all grains of a deposit; 0,258,0,120 for
+    /// a generated packing (whose position does not matter: only width and height count).
+    #[arg(long, value_name = "X_MIN,X_MAX,Y_MIN,Y_MAX", value_parser = FrameMm::parse, allow_hyphen_values = true)]
+    frame_mm: Option<FrameMm>,
 
     /// Look of the photograph: clean (even light, sharp), lab (uneven light, some blur, noise,
     /// dust, scratches) or hard (strong blur, low contrast, heavy noise, dirty glass).
@@ -64,6 +64,14 @@ pub struct Args {
     #[arg(long, default_value_t = 1)]
     seed: u64,
 }
+
+/// The frame of a generated packing when none is given (mm).
+const GENERATED_FRAME: FrameMm = FrameMm {
+    x_min: 0.0,
+    x_max: 258.0,
+    y_min: 0.0,
+    y_max: 120.0,
+};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum Generated {
@@ -80,38 +88,16 @@ fn parse_bits(text: &str) -> Result<u8, String> {
     }
 }
 
-fn parse_frame(text: &str) -> Result<[f64; 4], String> {
-    let values: Vec<f64> = text
-        .split(',')
-        .map(|v| v.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("`{text}`: {e}; expected four numbers x0,y0,width,height in mm"))?;
-    match values[..] {
-        [x0, y0, w, h] if values.iter().all(|v| v.is_finite()) && w > 0.0 && h > 0.0 => {
-            Ok([x0, y0, w, h])
-        }
-        _ => Err(format!(
-            "`{text}`: expected four finite numbers x0,y0,width,height in mm, width and height positive"
-        )),
-    }
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let style = Style::named(&args.style).context("unknown style")?;
-    let mm = |v: [f64; 4]| Region {
-        x0: v[0] * 1e-3,
-        y0: v[1] * 1e-3,
-        width: v[2] * 1e-3,
-        height: v[3] * 1e-3,
-    };
     let (outlines, truth, frame) = match (&args.deposit, args.generate) {
         (Some(path), _) => {
             let deposit = read_deposit_csv(path)?;
-            let region = match args.frame {
-                Some(f) => mm(f),
+            let region = match &args.frame_mm {
+                Some(f) => Region::of_frame(f),
                 None => Region::around(&deposit).with_context(|| {
                     format!(
-                        "{}: the deposit has no grains; give --frame",
+                        "{}: the deposit has no grains; give --frame-mm",
                         path.display()
                     )
                 })?,
@@ -121,7 +107,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (outlines, truth, frame)
         }
         (None, Some(kind)) => {
-            let region = mm(args.frame.unwrap_or([0.0, 0.0, 258.0, 120.0]));
+            let region = Region::of_frame(&args.frame_mm.unwrap_or(GENERATED_FRAME));
             let frame = photograph_frame(&region, args.px_per_mm)?;
             let shape = match kind {
                 Generated::Square => GrainShape::nut(6.9e-3),

@@ -6,7 +6,8 @@ use indicatif::{MultiProgress, ProgressBar};
 use rayon::prelude::*;
 
 use facets::fill::{
-    Checkpoint, FillControl, FillOutcome, FillProgress, StopAt, check_writable, fill_with,
+    Checkpoint, FillControl, FillOutcome, FillProgress, StopAt, check_writable, clear_earlier_run,
+    fill_with, refuse_earlier_runs,
 };
 use facets::scene::{Scene, load_scene};
 
@@ -22,6 +23,8 @@ use facets::scene::{Scene, load_scene};
 /// the command that resumes them and exits with status 130 (a second Ctrl-C exits at once).
 /// `--resume` continues checkpoints with the same result, bit for bit, as a run that was never
 /// stopped. `[output] checkpoint_every_s` in the scene also writes checkpoint.bin on the way.
+/// A folder that holds an earlier run (run.json or checkpoint.bin) is refused unless
+/// `--restart` says to start over.
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
@@ -43,6 +46,10 @@ pub struct Args {
     /// belongs to another scene, seed or version of facets.
     #[arg(long, num_args = 1..)]
     pub resume: Vec<PathBuf>,
+    /// Start over in folders that hold an earlier run (its run.json or checkpoint.bin),
+    /// replacing its files; without it such folders are refused.
+    #[arg(long, conflicts_with = "resume")]
+    pub restart: bool,
 }
 
 /// One run to do: its seed, its folder and the checkpoint it continues.
@@ -74,9 +81,19 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     } else {
         resumed_jobs(&args, &scene)?
     };
-    // Refuse an unwritable folder before any simulating.
+    // Refuse an unwritable folder, or one holding an earlier run, before any simulating.
     for job in &jobs {
         check_writable(&job.dir)?;
+    }
+    if args.resume.is_empty() {
+        let dirs: Vec<PathBuf> = jobs.iter().map(|j| j.dir.clone()).collect();
+        if args.restart {
+            for dir in &dirs {
+                clear_earlier_run(dir)?;
+            }
+        } else {
+            refuse_earlier_runs(&dirs)?;
+        }
     }
     super::progress::stop_fillings_on_ctrl_c()?;
     let bars = MultiProgress::new();

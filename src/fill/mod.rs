@@ -7,6 +7,7 @@
 //! `checkpoint.bin` when the run is stopped (Ctrl-C) or asked for periodic checkpoints.
 
 mod checkpoint;
+mod earlier;
 mod feeder;
 mod outline;
 mod output;
@@ -17,6 +18,7 @@ mod vtk;
 mod walls;
 
 pub use checkpoint::{CHECKPOINT_FILE, Checkpoint, scene_hash};
+pub use earlier::{EarlierRun, clear_earlier_run, earlier_run, refuse_earlier_runs};
 pub use feeder::{Feeder, FeederState, Rain};
 pub use outline::Placed;
 pub use output::{check_writable, deposit_of, frame_of};
