@@ -1,29 +1,14 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use clap::{Args as ClapArgs, ValueEnum};
+use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 
 use facets::deposit::FrameMm;
-use facets::detection::{self, Framing, InSilo, Sought};
-use facets::grains::GrainKind;
+use facets::detection::{self, Framing, InSilo, ShapeName, Sought};
 use vision::DetectParams;
 
 use super::shortcuts::ShortcutArgs;
-
-/// The outline sought: the experiment's grains by the names every command uses, or a rod of
-/// another size.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Shape {
-    /// Square nuts (6.9 mm side, 3.3 mm hole).
-    Square,
-    /// Short rods, 4.9 x 3 mm cylinders seen from the side.
-    Rod53,
-    /// Long rods, 8.9 x 3 mm.
-    Rod3,
-    /// Rods of another size: give --length-mm (and --width-mm, default 3).
-    Rod,
-}
 
 #[derive(Debug, ClapArgs)]
 #[command(
@@ -43,7 +28,7 @@ pub struct Args {
     /// Grain outline in the photographs: square, rod53, rod3 (the experiment's grains, as in
     /// every command), or rod with --length-mm for other rods.
     #[arg(long, value_enum)]
-    pub shape: Shape,
+    pub shape: ShapeName,
     /// Length of the rods of --shape rod (mm), 1 to 20 widths.
     #[arg(long)]
     pub length_mm: Option<f64>,
@@ -85,13 +70,7 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let kind = match args.shape {
-        Shape::Square => Some(GrainKind::Square),
-        Shape::Rod53 => Some(GrainKind::ShortRod),
-        Shape::Rod3 => Some(GrainKind::LongRod),
-        Shape::Rod => None,
-    };
-    let sought = Sought::new(kind, args.length_mm, args.width_mm)?;
+    let sought = Sought::new(args.shape, args.length_mm, args.width_mm)?;
     let mut params = args
         .shortcuts
         .shortcuts()

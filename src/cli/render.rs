@@ -3,13 +3,13 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
-use clap::{Args as ClapArgs, ValueEnum};
+use clap::Args as ClapArgs;
 use image::ImageFormat;
-use vision::GrainShape;
 use vision::packing::{Packing, generate};
 use vision::render::{Style, render};
 
 use facets::deposit::{FrameMm, read_deposit_csv, write_deposit_csv};
+use facets::grains::GrainKind;
 use facets::io::write_atomic;
 use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
 
@@ -30,7 +30,7 @@ pub struct Args {
     /// Instead of a deposit table, photograph a generated dense packing of this grain:
     /// square (6.9 mm nut), rod53 (4.9 x 3 mm), rod3 (8.9 x 3 mm).
     #[arg(long, value_enum)]
-    generate: Option<Generated>,
+    generate: Option<GrainKind>,
 
     /// How the generated packing was laid down: ordered (slow fill, grains mostly flat) or
     /// disordered (fast fill, random orientations).
@@ -73,13 +73,6 @@ const GENERATED_FRAME: FrameMm = FrameMm {
     y_max: 120.0,
 };
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
-enum Generated {
-    Square,
-    Rod53,
-    Rod3,
-}
-
 fn parse_bits(text: &str) -> Result<u8, String> {
     match text.trim() {
         "8" => Ok(8),
@@ -109,17 +102,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         (None, Some(kind)) => {
             let region = Region::of_frame(&args.frame_mm.unwrap_or(GENERATED_FRAME));
             let frame = photograph_frame(&region, args.px_per_mm)?;
-            let shape = match kind {
-                Generated::Square => GrainShape::nut(6.9e-3),
-                Generated::Rod53 => GrainShape::Rod {
-                    length: 4.9e-3,
-                    width: 3e-3,
-                },
-                Generated::Rod3 => GrainShape::Rod {
-                    length: 8.9e-3,
-                    width: 3e-3,
-                },
-            };
+            let shape = kind.photographed();
             let packed = generate(shape, args.packing, &frame, args.seed);
             eprintln!(
                 "generated packing: fraction {:.3}, deepest overlap {:.2} % of D, {:.1} % of grains touching a neighbour",

@@ -13,7 +13,7 @@ use anyhow::Context;
 use vision::{DetectParams, Detection, detect_report};
 
 pub use in_silo::{Framing, InSilo};
-pub use outline::{DEFAULT_ROD_WIDTH_MM, MAX_ASPECT, Sought};
+pub use outline::{DEFAULT_ROD_WIDTH_MM, MAX_ASPECT, ShapeName, Sought};
 pub use photos::{collect_photos, overlay_path, read_photo, stem, table_paths};
 
 use crate::deposit::{Deposit, Grain, fold_angle, meta_path, write_deposit_csv, write_meta_json};

@@ -13,6 +13,35 @@ pub const MAX_ASPECT: f64 = 20.0;
 /// Width of a custom rod when only its length is given (mm): the experiment's rods'.
 pub const DEFAULT_ROD_WIDTH_MM: f64 = 3.0;
 
+/// `--shape`: a grain kind by its name (as every command names it), or `rod`, a rod of the
+/// size given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ShapeName {
+    Kind(GrainKind),
+    Rod,
+}
+
+impl clap::ValueEnum for ShapeName {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[
+            ShapeName::Kind(GrainKind::Square),
+            ShapeName::Kind(GrainKind::ShortRod),
+            ShapeName::Kind(GrainKind::LongRod),
+            ShapeName::Rod,
+        ]
+    }
+
+    fn to_possible_value(&self) -> Option<clap::builder::PossibleValue> {
+        match self {
+            ShapeName::Kind(kind) => kind.to_possible_value(),
+            ShapeName::Rod => Some(
+                clap::builder::PossibleValue::new("rod")
+                    .help("Rods of another size: give --length-mm (and --width-mm, default 3)"),
+            ),
+        }
+    }
+}
+
 /// What to seek in the photographs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Sought {
@@ -26,20 +55,22 @@ pub enum Sought {
 }
 
 impl Sought {
-    /// The outline the options name: a grain kind, or (`kind` None: `--shape rod`) a rod of
-    /// the size given. A size given with a grain kind is refused: the kind has its own.
+    /// The outline the options name: a grain kind, or (`--shape rod`) a rod of the size
+    /// given. A size given with a grain kind is refused: the kind has its own.
     pub fn new(
-        kind: Option<GrainKind>,
+        shape: ShapeName,
         length_mm: Option<f64>,
         width_mm: Option<f64>,
     ) -> anyhow::Result<Sought> {
-        match kind {
-            None => Ok(Sought::Rod {
+        match shape {
+            ShapeName::Rod => Ok(Sought::Rod {
                 length_mm,
                 width_mm,
             }),
-            Some(kind) if length_mm.is_none() && width_mm.is_none() => Ok(Sought::Kind(kind)),
-            Some(kind) => bail!(
+            ShapeName::Kind(kind) if length_mm.is_none() && width_mm.is_none() => {
+                Ok(Sought::Kind(kind))
+            }
+            ShapeName::Kind(kind) => bail!(
                 "--length-mm and --width-mm give the size of a custom rod (--shape rod); \
                  --shape {kind} has its own ({} x {} mm)",
                 kind.length() * 1e3,

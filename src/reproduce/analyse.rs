@@ -9,19 +9,20 @@ use indicatif::ProgressBar;
 
 use super::detect::Detected;
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan, ShapePlan};
+use super::plan::{Plan, ShapePlan};
 use super::simulate::{Filled, Side};
 use crate::analysis::compare::{Comparison, compare};
 use crate::analysis::rdf::RdfInput;
 use crate::analysis::summary::{AnalysisParameters, Summary, analyse};
 use crate::deposit::{Ensemble, LoadOptions, Realisation, contacts_path, load_realisation};
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 use crate::plot::write_figures;
 
 /// Both sides of one shape, measured.
 #[derive(Clone, Debug)]
 pub struct ShapeAnalysis {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub simulation: Option<Summary>,
     pub experiment: Option<Summary>,
     pub comparison: Option<Comparison>,
@@ -51,7 +52,7 @@ pub fn analyse_all(
     detected: &[Detected],
     bar: &ProgressBar,
 ) -> anyhow::Result<Vec<ShapeAnalysis>> {
-    let mut kinds: Vec<GrainKindName> = plan.shapes.iter().map(|s| s.kind).collect();
+    let mut kinds: Vec<GrainKind> = plan.shapes.iter().map(|s| s.kind).collect();
     for d in detected {
         if !kinds.contains(&d.kind) {
             kinds.push(d.kind);

@@ -15,7 +15,6 @@ use vision::{DetectParams, Detection};
 
 use super::layout::Layout;
 use super::photograph::Photo;
-use super::plan::GrainKindName;
 use crate::deposit::{Deposit, meta_path, read_deposit_csv};
 use crate::detection::{
     Framing, InSilo, detect_photo, overlay_path, poorly_explained, shifted, stem,
@@ -26,7 +25,7 @@ use crate::photo::outline_of;
 /// A detected table of one photograph.
 #[derive(Clone, Debug)]
 pub struct Detected {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub photo: PathBuf,
     pub table: PathBuf,
@@ -39,12 +38,12 @@ pub struct Detected {
 }
 
 /// The detector's outline for a grain kind (the experiment's nuts and rods).
-pub fn shape_of(kind: GrainKindName) -> anyhow::Result<vision::GrainShape> {
-    Ok(GrainKind::from(kind).photographed())
+pub fn shape_of(kind: GrainKind) -> anyhow::Result<vision::GrainShape> {
+    Ok(kind.photographed())
 }
 
 /// Where the detector's table of a photograph goes.
-pub fn table_path(layout: &Layout, kind: GrainKindName, phi0: f64, photo: &Path) -> PathBuf {
+pub fn table_path(layout: &Layout, kind: GrainKind, phi0: f64, photo: &Path) -> PathBuf {
     layout
         .detected_dir(kind, phi0)
         .join(format!("{}.csv", stem(photo)))
@@ -155,7 +154,7 @@ pub struct Accuracy {
     pub seconds_per_photo: Option<f64>,
 }
 
-pub fn accuracy(detected: &[Detected], kind: GrainKindName, phi0: f64) -> Accuracy {
+pub fn accuracy(detected: &[Detected], kind: GrainKind, phi0: f64) -> Accuracy {
     let mine: Vec<&Detected> = detected
         .iter()
         .filter(|d| d.kind == kind && (d.phi0 - phi0).abs() < 1e-9)

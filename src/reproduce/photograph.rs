@@ -13,16 +13,17 @@ use vision::Frame;
 use vision::render::{Style, render};
 
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan};
+use super::plan::Plan;
 use super::simulate::{Filled, Side};
 use crate::deposit::{read_deposit_csv, write_deposit_csv};
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 use crate::photo::{Region, frame_deposit};
 
 /// A photograph of the experiment side, rendered or real.
 #[derive(Clone, Debug)]
 pub struct Photo {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub path: PathBuf,
     pub px_per_mm: f64,

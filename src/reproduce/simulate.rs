@@ -10,9 +10,10 @@ use rayon::prelude::*;
 use serde::Deserialize;
 
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan};
+use super::plan::Plan;
 use crate::deposit::FrameMm;
 use crate::fill::{FillProgress, RunRecord, fill};
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
@@ -26,7 +27,7 @@ pub enum Side {
 /// One filling to run (or found done).
 #[derive(Clone, Debug)]
 pub struct Filling {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub seed: u64,
     pub side: Side,

@@ -9,5 +9,5 @@ mod validate;
 pub use load::{load_scene, parse_scene};
 pub use types::{
     ContactSection, FeedSection, FrameChoice, GrainSection, Insertion, ModelSection, OutputSection,
-    PlateLaw, PlatesSection, RunSection, Scene, SceneGrainKind, SiloSection, WallKind,
+    PlateLaw, PlatesSection, RunSection, Scene, SiloSection, WallKind,
 };

@@ -26,7 +26,6 @@ use anyhow::Context;
 use rayon::prelude::*;
 
 use crate::deposit::Shape;
-use crate::scene::SceneGrainKind;
 use findings::Verdict;
 use results::Measured;
 use run::{Job, RunEvent, RunSummary};
@@ -167,11 +166,7 @@ fn measure_one(study: &Study, job: &Job) -> anyhow::Result<Measured> {
     Ok(Measured {
         case: job.case,
         seed: job.seed,
-        shape: match case.scene.grains.kind {
-            SceneGrainKind::Square => Shape::Square,
-            SceneGrainKind::ShortRod => Shape::ShortRod,
-            SceneGrainKind::LongRod => Shape::LongRod,
-        },
+        shape: Shape::from(case.scene.grains.kind),
         phi0: case.scene.feed.phi0,
         relaxed: run["relaxed"].as_bool().unwrap_or(false),
         grains: run["grains"].as_u64().unwrap_or(0) as usize,
