@@ -3,6 +3,7 @@
 //! unknown fields are an error (docs/model.md §4). Errors name the file, the line and the field.
 
 mod load;
+mod time_step;
 mod types;
 mod validate;
 
