@@ -1,14 +1,11 @@
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Args as ClapArgs;
 
-use facets::analysis::summary::{AnalysisParameters, analyse};
-use facets::deposit::{
-    DepositMeta, Ensemble, FrameMm, LoadOptions, Source, contacts_path, deposit_tables,
-    load_realisation,
-};
-use facets::io::write_atomic;
+use facets::analysis::summary::AnalysisParameters;
+use facets::analysis::tables::{Step, Tables, analyse_tables, write_summary};
+use facets::deposit::{DepositMeta, FrameMm, Source, deposit_tables};
 use facets::plot::write_figures;
 
 use super::progress::bar;
@@ -83,14 +80,6 @@ pub enum SourceArg {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let files = deposit_tables(&args.deposits)?;
-    if !args.contacts.is_empty() && args.contacts.len() != files.len() {
-        anyhow::bail!(
-            "--contacts gives {} tables for {} deposits: give one per deposit, in the same order",
-            args.contacts.len(),
-            files.len()
-        );
-    }
     let parameters = AnalysisParameters {
         w_over_d: args.w_over_d,
         w_scan_over_d: args.w_scan.clone(),
@@ -98,76 +87,45 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..AnalysisParameters::default()
     };
     parameters.validate()?;
-    let fallback = match (args.phi0, args.silo_width_mm) {
-        (Some(phi0), Some(silo_width_mm)) => {
-            let meta = DepositMeta {
-                silo_width_mm,
-                phi0,
-                frame_mm: args.frame_mm,
-                areal_density_kg_m2: None,
-                gravity_m_s2: None,
-                source: match args.source {
-                    SourceArg::Experiment => Source::Experiment,
-                    SourceArg::Simulation => Source::Simulation,
-                },
-            };
-            meta.validate_options()?;
-            Some(meta)
-        }
-        (None, None) if args.frame_mm.is_some() => anyhow::bail!(
-            "--frame-mm is the frame of deposits without a sidecar: it needs --phi0 and \
-             --silo-width-mm"
-        ),
-        (None, None) => None,
-        _ => anyhow::bail!("--phi0 and --silo-width-mm go together"),
+    let source = match args.source {
+        SourceArg::Experiment => Source::Experiment,
+        SourceArg::Simulation => Source::Simulation,
+    };
+    let input = Tables {
+        tables: deposit_tables(&args.deposits)?,
+        contacts: args.contacts.clone(),
+        fallback_meta: DepositMeta::from_options(
+            args.phi0,
+            args.silo_width_mm,
+            args.frame_mm,
+            source,
+        )?,
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
 
-    let loading = bar(files.len(), "loading");
-    let mut realisations = Vec::new();
-    let mut sources = std::collections::HashMap::new();
-    for (k, file) in files.iter().enumerate() {
-        let options = LoadOptions {
-            fallback_meta: fallback.clone(),
-            contacts: args.contacts.get(k).cloned(),
-        };
-        let real = load_realisation(file, &options)?;
-        let contacts = args.contacts.get(k).cloned().or_else(|| {
-            let p = contacts_path(file);
-            p.exists().then_some(p)
-        });
-        sources.insert(
-            real.name.clone(),
-            (absolute(file), contacts.map(|c| absolute(&c))),
-        );
-        realisations.push(real);
-        loading.inc(1);
-    }
+    let loading = bar(input.tables.len(), "loading");
+    let analysing = std::cell::OnceCell::new();
+    let summary = analyse_tables(&input, &parameters, &|step| match step {
+        Step::Loaded { done, .. } => loading.set_position(done as u64),
+        Step::Analysed { done, total } => {
+            let analysed = analysing.get_or_init(|| {
+                loading.finish_and_clear();
+                bar(total, "analysing")
+            });
+            analysed.set_position(done as u64);
+        }
+    })?;
     loading.finish_and_clear();
+    if let Some(analysed) = analysing.get() {
+        analysed.finish_and_clear();
+    }
 
-    let ensembles = Ensemble::group_by_phi0(realisations)?;
-    let examples: Vec<(String, Option<String>)> = ensembles
-        .iter()
-        .map(|e| {
-            let (d, c) = &sources[&e.realisations[0].name];
-            (d.clone(), c.clone())
-        })
-        .collect();
-    let progress = bar(ensembles.len(), "analysing");
-    let summary = analyse(&ensembles, &examples, &parameters, &|k| {
-        progress.set_position(k as u64)
-    })?;
-    progress.finish_and_clear();
-
-    write_atomic(&args.out.join("summary.json"), |w| {
-        serde_json::to_writer_pretty(&mut *w, &summary)?;
-        Ok(())
-    })?;
+    write_summary(&args.out, &summary)?;
     let figures = write_figures(&args.out, &[&summary])?;
     println!(
         "{} deposits of {} in {} ensembles; summary.json and {} figures in {}",
-        files.len(),
+        input.tables.len(),
         summary.shape.name(),
         summary.ensembles.len(),
         figures.len(),
@@ -214,11 +172,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-fn absolute(p: &Path) -> String {
-    std::fs::canonicalize(p)
-        .unwrap_or_else(|_| p.to_path_buf())
-        .display()
-        .to_string()
 }

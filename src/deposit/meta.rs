@@ -133,6 +133,36 @@ impl DepositMeta {
         self.check(&|field| format!("field `{field}`"))
     }
 
+    /// The sidecar given as command-line options (`--phi0`, `--silo-width-mm`, `--frame-mm`,
+    /// `--source`) for tables without one, checked; None when none is given.
+    pub fn from_options(
+        phi0: Option<f64>,
+        silo_width_mm: Option<f64>,
+        frame_mm: Option<FrameMm>,
+        source: Source,
+    ) -> anyhow::Result<Option<DepositMeta>> {
+        match (phi0, silo_width_mm) {
+            (Some(phi0), Some(silo_width_mm)) => {
+                let meta = DepositMeta {
+                    silo_width_mm,
+                    phi0,
+                    frame_mm,
+                    areal_density_kg_m2: None,
+                    gravity_m_s2: None,
+                    source,
+                };
+                meta.validate_options()?;
+                Ok(Some(meta))
+            }
+            (None, None) if frame_mm.is_some() => bail!(
+                "--frame-mm is the frame of deposits without a sidecar: it needs --phi0 and \
+                 --silo-width-mm"
+            ),
+            (None, None) => Ok(None),
+            _ => bail!("--phi0 and --silo-width-mm go together"),
+        }
+    }
+
     /// [`DepositMeta::validate`] of a sidecar given as command-line options (`--phi0`,
     /// `--silo-width-mm`, `--frame-mm`), naming the option that is wrong.
     pub fn validate_options(&self) -> anyhow::Result<()> {

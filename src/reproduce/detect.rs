@@ -8,13 +8,13 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 use vision::evaluate::{Tally, Truth, score};
 use vision::{DetectParams, Detection};
 
 use super::layout::Layout;
 use super::photograph::Photo;
+use super::progress::{Event, Progress};
 use crate::deposit::{Deposit, meta_path, read_deposit_csv};
 use crate::detection::{
     Framing, InSilo, detect_photo, overlay_path, poorly_explained, shifted, stem,
@@ -60,19 +60,24 @@ pub fn detect_all(
     photos: &[Photo],
     layout: &Layout,
     overlays: &[PathBuf],
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Vec<Detected>> {
-    bar.set_length(photos.len() as u64);
+    progress(Event::Stage {
+        stage: "detect",
+        counts: "photographs",
+        total: photos.len(),
+    });
     let results: Vec<anyhow::Result<Detected>> = photos
         .par_iter()
         .map(|p| {
             let overlay = overlays.contains(&p.path);
-            let r = detect_one(p, layout, overlay, bar)
+            let r = detect_one(p, layout, overlay, progress)
                 .with_context(|| format!("photograph {}", p.path.display()));
-            bar.inc(1);
+            progress(Event::Done);
             r
         })
         .collect();
+    progress(Event::StageEnd);
     results.into_iter().collect()
 }
 
@@ -80,7 +85,7 @@ fn detect_one(
     photo: &Photo,
     layout: &Layout,
     want_overlay: bool,
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Detected> {
     let table = table_path(layout, photo.kind, photo.phi0, &photo.path);
     let dir = layout.detected_dir(photo.kind, photo.phi0);
@@ -99,9 +104,7 @@ fn detect_one(
         seconds = Some(result.phases.total().as_secs_f64());
         let check = "the photograph's shape and px_per_mm in the manifest";
         if let Some(warning) = poorly_explained(&photo.path, result.explained, check) {
-            // Not `bar.println`: a bar hidden (stderr not a terminal: a log, a pipe) prints
-            // nothing, and the warning would be lost where it is most read.
-            bar.suspend(|| eprintln!("warning: {warning}"));
+            progress(Event::Warning(&warning));
         }
     }
     let deposit = read_deposit_csv(&table)?;

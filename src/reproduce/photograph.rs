@@ -7,13 +7,13 @@ use std::path::PathBuf;
 
 use anyhow::Context;
 use image::ImageFormat;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 use vision::Frame;
 use vision::render::{Style, render};
 
 use super::layout::Layout;
 use super::plan::Plan;
+use super::progress::{Event, Progress};
 use super::simulate::{Filled, Side};
 use crate::deposit::{read_deposit_csv, write_deposit_csv};
 use crate::grains::GrainKind;
@@ -48,7 +48,7 @@ pub fn photograph(
     plan: &Plan,
     layout: &Layout,
     filled: &[Filled],
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Vec<Photo>> {
     let style = Style::named(&plan.photo_style)
         .with_context(|| format!("unknown photo style {:?}", plan.photo_style))?;
@@ -56,15 +56,20 @@ pub fn photograph(
         .iter()
         .filter(|f| f.filling.side == Side::Photographed)
         .collect();
-    bar.set_length(todo.len() as u64);
+    progress(Event::Stage {
+        stage: "photograph",
+        counts: "photographs",
+        total: todo.len(),
+    });
     let photos: Vec<anyhow::Result<Photo>> = todo
         .par_iter()
         .map(|f| {
             let result = photograph_one(plan, layout, f, &style);
-            bar.inc(1);
+            progress(Event::Done);
             result
         })
         .collect();
+    progress(Event::StageEnd);
     photos.into_iter().collect()
 }
 

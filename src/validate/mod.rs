@@ -26,9 +26,10 @@ use anyhow::Context;
 use rayon::prelude::*;
 
 use crate::deposit::Shape;
+use crate::fill::FillEvent;
 use findings::Verdict;
 use results::Measured;
-use run::{Job, RunEvent, RunSummary};
+use run::{Job, RunSummary};
 use study::Study;
 
 /// What the command was asked.
@@ -47,7 +48,7 @@ pub struct Options {
 /// Progress of the stages.
 #[derive(Clone, Copy, Debug)]
 pub enum Progress<'a> {
-    Run(&'a Job, RunEvent),
+    Run(&'a Job, FillEvent),
     /// Realisations measured so far, of the total.
     Measured {
         done: usize,
