@@ -171,10 +171,10 @@ pub fn measure(
         .num_threads(threads)
         .build()
         .context("cannot start the thread pool")?;
-    let (start, cpu_start) = (Instant::now(), cpu_time());
+    let (start, cpu_start) = (Instant::now(), super::process::cpu_time());
     pool.install(|| w.run(steps))?;
     let seconds = start.elapsed().as_secs_f64();
-    let cpu_seconds = cpu_time() - cpu_start;
+    let cpu_seconds = super::process::cpu_time() - cpu_start;
     Ok(Throughput {
         threads,
         steps,
@@ -184,24 +184,4 @@ pub fn measure(
         contacts: w.contacts().count(),
         pairs: w.neighbour_pairs().0,
     })
-}
-
-/// Peak resident memory of this process (bytes), from /proc; None where unavailable.
-pub fn peak_memory() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-/// User plus system processor time of this process so far (s).
-pub fn cpu_time() -> f64 {
-    // SAFETY: getrusage only writes into the struct we hand it.
-    let usage = unsafe {
-        let mut usage: libc::rusage = std::mem::zeroed();
-        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
-        usage
-    };
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    secs(usage.ru_utime) + secs(usage.ru_stime)
 }

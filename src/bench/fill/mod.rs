@@ -52,7 +52,7 @@ use anyhow::Context;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::engine::cpu_time;
+use super::process::cpu_time;
 use crate::deposit::{Ensemble, LoadOptions, load_realisation};
 use crate::fill::{RunRecord, check_writable, fill};
 use crate::io::write_atomic;

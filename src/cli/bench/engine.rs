@@ -207,7 +207,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
         }
     }
-    if let Some(peak) = engine::peak_memory() {
+    if let Some(peak) = facets::bench::process::peak_memory() {
         println!(
             "peak resident memory of this run: {:.0} MB",
             peak as f64 / 1e6
