@@ -4,3 +4,4 @@ pub mod analysis;
 pub mod engine;
 pub mod fill;
 pub mod process;
+pub mod vision;

@@ -206,6 +206,16 @@ pub fn run_bench(
         "--grains {}: a filling needs at least one grain",
         config.grains
     );
+    anyhow::ensure!(
+        config.max_relaxation_time_s.is_finite() && config.max_relaxation_time_s > 0.0,
+        "--max-relaxation-s {}: expected a positive time (s)",
+        config.max_relaxation_time_s
+    );
+    anyhow::ensure!(
+        config.measure.rdf_margin_d.is_finite() && config.measure.rdf_margin_d >= 0.0,
+        "--rdf-margin {}: expected a number of grain widths >= 0",
+        config.measure.rdf_margin_d
+    );
     let mut settings: Vec<&'static Setting> = Vec::new();
     if !config.settings.iter().any(|s| s.name == REFERENCE) {
         settings.push(Setting::by_name(REFERENCE)?);

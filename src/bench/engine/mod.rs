@@ -7,6 +7,8 @@
 //! in [0, 2 pi), at rest; settled under gravity with a coarse step (and quenched if still
 //! moving), then timed at the paper's 1e-6 s.
 
+mod run;
+
 use std::time::Instant;
 
 use anyhow::Context;
@@ -15,6 +17,8 @@ use rand_chacha::ChaCha8Rng;
 use sim::{ContactLaw, GrainState, ShapeId, Vec2, Wall, World, WorldSettings};
 
 use crate::grains::{DEFAULT_ROUNDING, GrainKind};
+
+pub use run::{EngineBench, EngineEvent, Layout, Row, parse_case, run, write_csv};
 
 /// Width of the benchmark box (m).
 pub const BOX_WIDTH: f64 = 0.256;
