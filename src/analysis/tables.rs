@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Context;
 
 use super::summary::{AnalysisParameters, Summary, analyse};
-use crate::deposit::{DepositMeta, Ensemble, LoadOptions, contacts_path, load_realisation};
+use crate::deposit::{DepositMeta, Ensemble, LoadOptions, Source, contacts_path, load_realisation};
 use crate::io::write_atomic;
 
 /// The tables to analyse and what stands in for what they lack.
@@ -75,6 +75,22 @@ pub fn analyse_tables(
     analyse(&ensembles, &examples, parameters, &|done| {
         progress(Step::Analysed { done, total: count })
     })
+}
+
+/// Reads `dir/summary.json` as `facets analyse` wrote it, drawn as `source` whatever its
+/// deposits' sidecars said (the side of a comparison decides the style).
+pub fn read_summary(dir: &Path, source: Source) -> anyhow::Result<Summary> {
+    let path = dir.join("summary.json");
+    let text = std::fs::read_to_string(&path).with_context(|| {
+        format!(
+            "cannot open {} (give the output folder of `facets analyse`)",
+            path.display()
+        )
+    })?;
+    let mut summary: Summary =
+        serde_json::from_str(&text).with_context(|| format!("in {}", path.display()))?;
+    summary.source = source;
+    Ok(summary)
 }
 
 /// Writes `dir/summary.json` (the folder created if missing).

@@ -4,14 +4,12 @@ use std::path::PathBuf;
 
 use anyhow::{Context, bail};
 use clap::Args as ClapArgs;
-use image::ImageFormat;
 use vision::packing::{Packing, generate};
-use vision::render::{Style, render};
+use vision::render::Style;
 
-use facets::deposit::{FrameMm, read_deposit_csv, write_deposit_csv};
+use facets::deposit::{FrameMm, read_deposit_csv};
 use facets::grains::GrainKind;
-use facets::io::write_atomic;
-use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
+use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame, write_photograph};
 
 #[derive(Debug, ClapArgs)]
 #[command(
@@ -118,13 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if outlines.is_empty() {
         eprintln!("warning: no grain of the deposit shows in the frame; the photograph is empty");
     }
-    let photo = render(&outlines, &frame, &style, args.seed).to_image(args.bits);
-    write_atomic(&args.out, |w| {
-        photo.write_to(w, ImageFormat::Png)?;
-        Ok(())
-    })?;
-    let truth_path = args.out.with_extension("truth.csv");
-    write_deposit_csv(&truth_path, &truth)?;
+    let truth_path = write_photograph(
+        &args.out, &outlines, &truth, &frame, &style, args.seed, args.bits,
+    )?;
     let cut = truth.grains.iter().filter(|g| g.cut).count();
     eprintln!(
         "{}: {} x {} px, {} grains ({cut} cut by the frame); truth in {}",

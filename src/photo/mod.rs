@@ -1,10 +1,15 @@
 //! Between deposit tables and photographs: grain outlines from a deposit, and the truth table
 //! of a photograph.
 
+use std::path::{Path, PathBuf};
+
 use anyhow::bail;
+use image::ImageFormat;
+use vision::render::{Style, render};
 use vision::{Frame, GrainOutline, GrainShape};
 
-use crate::deposit::{Deposit, FrameMm, Grain};
+use crate::deposit::{Deposit, FrameMm, Grain, write_deposit_csv};
+use crate::io::write_atomic;
 
 /// The outline of a deposit grain: a nut (hole scaled with the side: 3.3 mm for 6.9 mm) when
 /// its sides are equal, else a rod.
@@ -157,6 +162,33 @@ pub fn frame_deposit(
         );
     }
     (outlines, truth)
+}
+
+/// The truth table beside a photograph: `PHOTO.truth.csv`.
+pub fn truth_path(photo: &Path) -> PathBuf {
+    photo.with_extension("truth.csv")
+}
+
+/// Renders `outlines` over `frame` in `style` (noise, dust and light of `seed`) and writes the
+/// photograph as a PNG of `bits` bits per pixel, with its truth table beside it
+/// ([`truth_path`]), the truth first: a photograph on disk always has its truth.
+pub fn write_photograph(
+    path: &Path,
+    outlines: &[GrainOutline],
+    truth: &Deposit,
+    frame: &Frame,
+    style: &Style,
+    seed: u64,
+    bits: u8,
+) -> anyhow::Result<PathBuf> {
+    let image = render(outlines, frame, style, seed).to_image(bits);
+    let truth_file = truth_path(path);
+    write_deposit_csv(&truth_file, truth)?;
+    write_atomic(path, |w| {
+        image.write_to(w, ImageFormat::Png)?;
+        Ok(())
+    })?;
+    Ok(truth_file)
 }
 
 /// The deposit table of generated or detected outlines (frame coordinates).

@@ -11,12 +11,11 @@ use super::layout::Layout;
 use super::plan::{Plan, ShapePlan};
 use super::progress::{Event, Progress};
 use super::simulate::{Filled, Side};
-use crate::analysis::compare::{Comparison, compare};
+use crate::analysis::compare::{Comparison, compare, write_comparison};
 use crate::analysis::rdf::RdfInput;
 use crate::analysis::summary::{AnalysisParameters, Summary};
 use crate::analysis::tables::{Tables, analyse_tables, write_summary};
 use crate::grains::GrainKind;
-use crate::io::write_atomic;
 use crate::plot::write_figures;
 
 /// Both sides of one shape, measured.
@@ -86,10 +85,7 @@ pub fn analyse_all(
         let comparison = match (&experiment, &simulation) {
             (Some(e), Some(s)) => {
                 let c = compare(e, s)?;
-                write_atomic(&figures_dir.join("comparison.json"), |w| {
-                    serde_json::to_writer_pretty(&mut *w, &c)?;
-                    Ok(())
-                })?;
+                write_comparison(&figures_dir, &c)?;
                 Some(c)
             }
             _ => None,

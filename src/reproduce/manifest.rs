@@ -206,7 +206,7 @@ fn check(dir: &Path, e: &Entry) -> anyhow::Result<Photo> {
     if !path.is_file() {
         bail!("field `file`: {} does not exist", path.display());
     }
-    let truth = Photo::truth_path(&path);
+    let truth = crate::photo::truth_path(&path);
     Ok(Photo {
         kind,
         phi0: e.phi0,
