@@ -5,15 +5,23 @@ use std::str::FromStr;
 
 use sim::{ShapeError, Spheropolygon};
 
-/// One of the three grain kinds of the experiments.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "kebab-case")]
+/// One of the three grain kinds of the experiments, named alike in every command, scene,
+/// plan and manifest: `square`, `rod53`, `rod3` (older names are read too).
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize, clap::ValueEnum,
+)]
 pub enum GrainKind {
     /// DIN 557 M4 square nut, 6.9 x 6.9 mm (d = 1).
+    #[serde(rename = "square", alias = "squares")]
+    #[value(name = "square", alias = "squares")]
     Square,
     /// Steel cylinder 4.9 x 3 mm seen from the side (d = 5/3).
+    #[serde(rename = "rod53", alias = "short-rod")]
+    #[value(name = "rod53", alias = "short-rod")]
     ShortRod,
     /// Steel cylinder 8.9 x 3 mm seen from the side (d = 3).
+    #[serde(rename = "rod3", alias = "long-rod")]
+    #[value(name = "rod3", alias = "long-rod")]
     LongRod,
 }
 
@@ -54,6 +62,18 @@ impl GrainKind {
         Spheropolygon::rounded_rectangle(self.length(), self.width(), rounding * self.width())
     }
 
+    /// The outline the photograph tools draw and seek (`vision`): the nut with its hole for
+    /// squares, the rectangle for rods.
+    pub fn photographed(self) -> vision::GrainShape {
+        match self {
+            GrainKind::Square => vision::GrainShape::nut(self.length()),
+            GrainKind::ShortRod | GrainKind::LongRod => vision::GrainShape::Rod {
+                length: self.length(),
+                width: self.width(),
+            },
+        }
+    }
+
     /// Short name used on the command line and in file names.
     pub fn name(self) -> &'static str {
         match self {
@@ -73,13 +93,15 @@ impl fmt::Display for GrainKind {
 impl FromStr for GrainKind {
     type Err = String;
 
+    /// The command-line names, any case, with the older ones (`squares`, `short-rod`,
+    /// `rod5/3`, `long-rod`).
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
+        match s.trim().to_ascii_lowercase().as_str() {
             "square" | "squares" => Ok(GrainKind::Square),
-            "rod53" | "short-rod" => Ok(GrainKind::ShortRod),
+            "rod53" | "rod5/3" | "short-rod" => Ok(GrainKind::ShortRod),
             "rod3" | "long-rod" => Ok(GrainKind::LongRod),
-            other => Err(format!(
-                "unknown grain kind `{other}`: expected square, rod53 (4.9 x 3 mm) or rod3 (8.9 x 3 mm)"
+            _ => Err(format!(
+                "unknown grain kind `{s}`: expected square, rod53 (4.9 x 3 mm) or rod3 (8.9 x 3 mm)"
             )),
         }
     }
@@ -105,6 +127,14 @@ mod tests {
             assert!((m * 1e3 - grams).abs() < 0.01, "{kind}: {} g", m * 1e3);
         }
         assert_eq!("rod3".parse::<GrainKind>().unwrap(), GrainKind::LongRod);
+        // Files and the command line use the same names.
+        for kind in GrainKind::ALL {
+            let json = serde_json::to_string(&kind).unwrap();
+            assert_eq!(json, format!("\"{}\"", kind.name()));
+            let value = clap::ValueEnum::to_possible_value(&kind).unwrap();
+            assert_eq!(value.get_name(), kind.name());
+            assert_eq!(kind.name().parse::<GrainKind>().unwrap(), kind);
+        }
         assert!(
             "hexagon"
                 .parse::<GrainKind>()

@@ -14,16 +14,7 @@ fn corrupt_photograph_is_named_and_the_batch_goes_on() {
         .unwrap();
     let out = dir.path().join("out");
     let run = Command::new(env!("CARGO_BIN_EXE_facets"))
-        .args([
-            "detect",
-            "--shape",
-            "rod",
-            "--aspect",
-            "5/3",
-            "--px-per-mm",
-            "10",
-            "--out",
-        ])
+        .args(["detect", "--shape", "rod53", "--px-per-mm", "10", "--out"])
         .arg(&out)
         .arg(&corrupt)
         .arg(&blank)
@@ -40,12 +31,12 @@ fn corrupt_photograph_is_named_and_the_batch_goes_on() {
     assert_eq!(table.lines().count(), 1, "header only: {table}");
 }
 
-/// `facets detect` on `photo` (a sample photograph at 10 px/mm) as rods of `aspect`: stderr.
-fn detect_rods(photo: &str, aspect: &str) -> String {
+/// `facets detect` on `photo` (a sample photograph at 10 px/mm) as `shape`: stderr.
+fn detect_rods(photo: &str, shape: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let photo = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(photo);
     let run = Command::new(env!("CARGO_BIN_EXE_facets"))
-        .args(["detect", "--shape", "rod", "--aspect", aspect])
+        .args(["detect", "--shape", shape])
         .args(["--px-per-mm", "10", "--out"])
         .arg(dir.path())
         .arg(&photo)
@@ -60,14 +51,14 @@ fn rods_sought_longer_than_they_are_are_warned_about() {
     // The sample's rods are 4.9 mm long; the 8.9 mm outline explains 82 % of their dark
     // pixels, the right one 96 % (the warning's threshold is 87 %).
     let photo = "data-samples/photos/rod53-lab-10px.png";
-    let wrong = detect_rods(photo, "3");
+    let wrong = detect_rods(photo, "rod3");
     assert!(
         wrong.contains("warning")
             && wrong.contains("rod53-lab-10px.png")
-            && wrong.contains("--aspect (given 3)"),
+            && wrong.contains("--shape (given rod3)"),
         "{wrong}"
     );
-    let right = detect_rods(photo, "5/3");
+    let right = detect_rods(photo, "rod53");
     assert!(!right.contains("warning"), "{right}");
 }
 
@@ -78,7 +69,7 @@ fn timings_name_each_step_of_the_pipeline() {
     let photo = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("data-samples/photos/rod53-lab-10px.png");
     let run = Command::new(env!("CARGO_BIN_EXE_facets"))
-        .args(["detect", "--shape", "rod", "--aspect", "5/3"])
+        .args(["detect", "--shape", "rod53"])
         .args(["--px-per-mm", "10", "--timings", "--out"])
         .arg(dir.path())
         .arg(&photo)
@@ -112,7 +103,7 @@ fn timings_name_each_step_of_the_pipeline() {
 fn a_fit_refining_no_finalist_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let run = Command::new(env!("CARGO_BIN_EXE_facets"))
-        .args(["detect", "--shape", "rod", "--aspect", "5/3"])
+        .args(["detect", "--shape", "rod53"])
         .args(["--px-per-mm", "10", "--finalists", "0", "--out"])
         .arg(dir.path())
         .arg(dir.path().join("none.png"))

@@ -78,8 +78,8 @@ fn cases(out: &Path) -> Vec<Case> {
         render("--px-per-mm", NONSENSE.to_vec(), &["--generate", "square"]),
         render("--px-per-mm", vec!["1e6"], &[&deposit]),
         render(
-            "--frame",
-            vec!["0,0,0,0", "0,0,-1,10", "NaN,0,10,10", "0,0,inf,10"],
+            "--frame-mm",
+            frames.clone(),
             &[&deposit, "--px-per-mm", "5"],
         ),
         render("--bits", vec!["0", "-1", "NaN", "inf"], &[&deposit]),
@@ -96,16 +96,46 @@ fn cases(out: &Path) -> Vec<Case> {
             sample("photos/rod53-lab-10px.png"),
         ],
     };
-    let rods = ["--shape", "rod", "--aspect", "5/3"];
-    let rods_at_10 = ["--shape", "rod", "--aspect", "5/3", "--px-per-mm", "10"];
+    let rods = ["--shape", "rod53"];
+    let rods_at_10 = ["--shape", "rod53", "--px-per-mm", "10"];
+    let custom_at_10 = ["--shape", "rod", "--px-per-mm", "10"];
+    let in_silo = ["--phi0", "0.1", "--silo-width-mm", "160"];
     all.extend([
         detect("--px-per-mm", NONSENSE.to_vec(), &rods),
         detect("--px-per-mm", NONSENSE.to_vec(), &["--shape", "square"]),
         detect("--px-per-mm", vec!["0.1", "1e5"], &rods),
         detect(
-            "--aspect",
-            vec!["0", "-1", "NaN", "inf", "1/0", "0.5", "1000"],
-            &["--shape", "rod", "--px-per-mm", "10"],
+            "--length-mm",
+            vec!["0", "-1", "NaN", "inf", "2", "1000"],
+            &custom_at_10,
+        ),
+        detect(
+            "--width-mm",
+            [NONSENSE.to_vec(), vec!["7"]].concat(),
+            &[&custom_at_10[..], &["--length-mm", "6"]].concat(),
+        ),
+        // A size with a named kind: the kind has its own.
+        detect("--length-mm", vec!["6"], &rods_at_10),
+        detect(
+            "--phi0",
+            [NONSENSE.to_vec(), vec!["1.5"]].concat(),
+            &[&rods_at_10[..], &["--silo-width-mm", "160"]].concat(),
+        ),
+        detect(
+            "--silo-width-mm",
+            NONSENSE.to_vec(),
+            &[&rods_at_10[..], &["--phi0", "0.1"]].concat(),
+        ),
+        detect(
+            "--frame-mm",
+            frames.clone(),
+            &[&rods_at_10[..], &in_silo[..]].concat(),
+        ),
+        // The sample is 60 x 40 mm at 10 px/mm: a frame of another size is not its frame.
+        detect(
+            "--frame-mm",
+            vec!["0,120,0,40", "0,60,0,80"],
+            &[&rods_at_10[..], &in_silo[..]].concat(),
         ),
         detect(
             "--min-confidence",

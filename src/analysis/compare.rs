@@ -1,6 +1,8 @@
 //! Experiment against simulation, ensemble against ensemble (docs/model.md §5): for each phi0 both have,
 //! the difference of each scalar observable in units of the combined standard error.
 
+use std::path::{Path, PathBuf};
+
 use serde::{Deserialize, Serialize};
 
 use super::stats::MeanErr;
@@ -68,4 +70,14 @@ pub fn compare(experiment: &Summary, simulation: &Summary) -> anyhow::Result<Com
         });
     }
     Ok(Comparison { per_phi0 })
+}
+
+/// Writes `dir/comparison.json`.
+pub fn write_comparison(dir: &Path, comparison: &Comparison) -> anyhow::Result<PathBuf> {
+    let path = dir.join("comparison.json");
+    crate::io::write_atomic(&path, |w| {
+        serde_json::to_writer_pretty(&mut *w, comparison)?;
+        Ok(())
+    })?;
+    Ok(path)
 }

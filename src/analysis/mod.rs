@@ -11,3 +11,4 @@ pub mod rdf;
 pub mod stats;
 pub mod stress_grid;
 pub mod summary;
+pub mod tables;

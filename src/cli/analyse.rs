@@ -1,13 +1,11 @@
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::Context;
 use clap::Args as ClapArgs;
 
-use facets::analysis::summary::{AnalysisParameters, analyse};
-use facets::deposit::{
-    DepositMeta, Ensemble, FrameMm, LoadOptions, Source, contacts_path, load_realisation,
-};
-use facets::io::write_atomic;
+use facets::analysis::summary::AnalysisParameters;
+use facets::analysis::tables::{Step, Tables, analyse_tables, write_summary};
+use facets::deposit::{DepositMeta, FrameMm, Source, deposit_tables};
 use facets::plot::write_figures;
 
 use super::progress::bar;
@@ -37,8 +35,9 @@ use super::progress::bar;
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
-    /// Deposit tables (CSV), or folders whose *.csv deposit tables are all taken (files named
-    /// *.contacts.csv and *.grains.csv are sidecars, not deposits).
+    /// Deposit tables (CSV), or folders: a folder gives its *.csv deposit tables (files named
+    /// *.contacts.csv and *.grains.csv are sidecars, not deposits) and those of its seed-N/
+    /// folders (an ensemble as `facets sim --realisations` writes it).
     #[arg(required = true)]
     pub deposits: Vec<PathBuf>,
     /// Contact tables, one per deposit in the same order (default: NAME.contacts.csv when it
@@ -54,10 +53,11 @@ pub struct Args {
     /// Silo width W (mm) of deposits without a sidecar.
     #[arg(long)]
     pub silo_width_mm: Option<f64>,
-    /// Frame x_min,x_max,y_min,y_max (mm) of deposits without a sidecar (default: the whole
-    /// width, floor to the top grain).
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    pub frame_mm: Option<Vec<f64>>,
+    /// Frame of deposits without a sidecar: x_min,x_max,y_min,y_max in mm, x from the left
+    /// wall, y from the floor (as every command's --frame-mm). Default: the whole width, floor
+    /// to the top grain.
+    #[arg(long, value_name = "X_MIN,X_MAX,Y_MIN,Y_MAX", value_parser = FrameMm::parse, allow_hyphen_values = true)]
+    pub frame_mm: Option<FrameMm>,
     /// Source of deposits without a sidecar.
     #[arg(long, value_enum, default_value = "experiment")]
     pub source: SourceArg,
@@ -79,44 +79,7 @@ pub enum SourceArg {
     Simulation,
 }
 
-/// Deposit tables under the arguments, folders expanded (sorted, sidecars skipped).
-pub fn expand(paths: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
-    let mut out = Vec::new();
-    for p in paths {
-        if p.is_dir() {
-            let mut found: Vec<PathBuf> = std::fs::read_dir(p)
-                .with_context(|| format!("cannot list {}", p.display()))?
-                .filter_map(|e| e.ok().map(|e| e.path()))
-                .filter(|f| {
-                    let name = f.file_name().map(|n| n.to_string_lossy().into_owned());
-                    name.is_some_and(|n| {
-                        n.ends_with(".csv")
-                            && !n.ends_with(".contacts.csv")
-                            && !n.ends_with(".grains.csv")
-                    })
-                })
-                .collect();
-            found.sort();
-            if found.is_empty() {
-                anyhow::bail!("{}: no deposit tables (*.csv) in this folder", p.display());
-            }
-            out.extend(found);
-        } else {
-            out.push(p.clone());
-        }
-    }
-    Ok(out)
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let files = expand(&args.deposits)?;
-    if !args.contacts.is_empty() && args.contacts.len() != files.len() {
-        anyhow::bail!(
-            "--contacts gives {} tables for {} deposits: give one per deposit, in the same order",
-            args.contacts.len(),
-            files.len()
-        );
-    }
     let parameters = AnalysisParameters {
         w_over_d: args.w_over_d,
         w_scan_over_d: args.w_scan.clone(),
@@ -124,89 +87,45 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         ..AnalysisParameters::default()
     };
     parameters.validate()?;
-    if let Some(f) = &args.frame_mm
-        && f.len() != 4
-    {
-        anyhow::bail!(
-            "--frame-mm has {} values, expected four: x_min,x_max,y_min,y_max (mm)",
-            f.len()
-        );
-    }
-    let fallback = match (args.phi0, args.silo_width_mm) {
-        (Some(phi0), Some(silo_width_mm)) => {
-            let meta = DepositMeta {
-                silo_width_mm,
-                phi0,
-                frame_mm: args.frame_mm.as_ref().map(|f| FrameMm {
-                    x_min: f[0],
-                    x_max: f[1],
-                    y_min: f[2],
-                    y_max: f[3],
-                }),
-                areal_density_kg_m2: None,
-                gravity_m_s2: None,
-                source: match args.source {
-                    SourceArg::Experiment => Source::Experiment,
-                    SourceArg::Simulation => Source::Simulation,
-                },
-            };
-            meta.validate_options()?;
-            Some(meta)
-        }
-        (None, None) if args.frame_mm.is_some() => anyhow::bail!(
-            "--frame-mm is the frame of deposits without a sidecar: it needs --phi0 and \
-             --silo-width-mm"
-        ),
-        (None, None) => None,
-        _ => anyhow::bail!("--phi0 and --silo-width-mm go together"),
+    let source = match args.source {
+        SourceArg::Experiment => Source::Experiment,
+        SourceArg::Simulation => Source::Simulation,
+    };
+    let input = Tables {
+        tables: deposit_tables(&args.deposits)?,
+        contacts: args.contacts.clone(),
+        fallback_meta: DepositMeta::from_options(
+            args.phi0,
+            args.silo_width_mm,
+            args.frame_mm,
+            source,
+        )?,
     };
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
 
-    let loading = bar(files.len(), "loading");
-    let mut realisations = Vec::new();
-    let mut sources = std::collections::HashMap::new();
-    for (k, file) in files.iter().enumerate() {
-        let options = LoadOptions {
-            fallback_meta: fallback.clone(),
-            contacts: args.contacts.get(k).cloned(),
-        };
-        let real = load_realisation(file, &options)?;
-        let contacts = args.contacts.get(k).cloned().or_else(|| {
-            let p = contacts_path(file);
-            p.exists().then_some(p)
-        });
-        sources.insert(
-            real.name.clone(),
-            (absolute(file), contacts.map(|c| absolute(&c))),
-        );
-        realisations.push(real);
-        loading.inc(1);
-    }
+    let loading = bar(input.tables.len(), "loading");
+    let analysing = std::cell::OnceCell::new();
+    let summary = analyse_tables(&input, &parameters, &|step| match step {
+        Step::Loaded { done, .. } => loading.set_position(done as u64),
+        Step::Analysed { done, total } => {
+            let analysed = analysing.get_or_init(|| {
+                loading.finish_and_clear();
+                bar(total, "analysing")
+            });
+            analysed.set_position(done as u64);
+        }
+    })?;
     loading.finish_and_clear();
+    if let Some(analysed) = analysing.get() {
+        analysed.finish_and_clear();
+    }
 
-    let ensembles = Ensemble::group_by_phi0(realisations)?;
-    let examples: Vec<(String, Option<String>)> = ensembles
-        .iter()
-        .map(|e| {
-            let (d, c) = &sources[&e.realisations[0].name];
-            (d.clone(), c.clone())
-        })
-        .collect();
-    let progress = bar(ensembles.len(), "analysing");
-    let summary = analyse(&ensembles, &examples, &parameters, &|k| {
-        progress.set_position(k as u64)
-    })?;
-    progress.finish_and_clear();
-
-    write_atomic(&args.out.join("summary.json"), |w| {
-        serde_json::to_writer_pretty(&mut *w, &summary)?;
-        Ok(())
-    })?;
+    write_summary(&args.out, &summary)?;
     let figures = write_figures(&args.out, &[&summary])?;
     println!(
         "{} deposits of {} in {} ensembles; summary.json and {} figures in {}",
-        files.len(),
+        input.tables.len(),
         summary.shape.name(),
         summary.ensembles.len(),
         figures.len(),
@@ -253,11 +172,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
     }
     Ok(())
-}
-
-fn absolute(p: &Path) -> String {
-    std::fs::canonicalize(p)
-        .unwrap_or_else(|_| p.to_path_buf())
-        .display()
-        .to_string()
 }

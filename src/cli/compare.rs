@@ -3,10 +3,9 @@ use std::path::PathBuf;
 use anyhow::Context;
 use clap::Args as ClapArgs;
 
-use facets::analysis::compare::compare;
-use facets::analysis::summary::Summary;
+use facets::analysis::compare::{compare, write_comparison};
+use facets::analysis::tables::read_summary;
 use facets::deposit::Source;
-use facets::io::write_atomic;
 use facets::plot::write_figures;
 
 /// Draw experiment and simulation on the same axes, from two `facets analyse` outputs.
@@ -32,31 +31,13 @@ pub struct Args {
     pub out: PathBuf,
 }
 
-fn read_summary(dir: &std::path::Path, source: Source) -> anyhow::Result<Summary> {
-    let path = dir.join("summary.json");
-    let text = std::fs::read_to_string(&path).with_context(|| {
-        format!(
-            "cannot open {} (give the output folder of `facets analyse`)",
-            path.display()
-        )
-    })?;
-    let mut summary: Summary =
-        serde_json::from_str(&text).with_context(|| format!("in {}", path.display()))?;
-    // The side of the comparison decides the style, whatever the sidecars said.
-    summary.source = source;
-    Ok(summary)
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let experiment = read_summary(&args.experiment, Source::Experiment)?;
     let simulation = read_summary(&args.simulation, Source::Simulation)?;
     let comparison = compare(&experiment, &simulation)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("cannot create {}", args.out.display()))?;
-    write_atomic(&args.out.join("comparison.json"), |w| {
-        serde_json::to_writer_pretty(&mut *w, &comparison)?;
-        Ok(())
-    })?;
+    write_comparison(&args.out, &comparison)?;
     let figures = write_figures(&args.out, &[&experiment, &simulation])?;
     println!(
         "{} figures and comparison.json in {}",

@@ -1,39 +1,44 @@
 use std::path::PathBuf;
 
 use anyhow::bail;
-use clap::{Args as ClapArgs, ValueEnum};
+use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
 
-use facets::detection;
+use facets::deposit::FrameMm;
+use facets::detection::{self, Framing, InSilo, ShapeName, Sought};
 use vision::DetectParams;
 
 use super::shortcuts::ShortcutArgs;
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum Shape {
-    /// Square nuts (6.9 mm side, 3.3 mm hole).
-    Square,
-    /// Cylinders seen from the side (3 mm wide; length from --aspect).
-    Rod,
-}
-
 #[derive(Debug, ClapArgs)]
+#[command(
+    after_help = "Writes into --out, per photograph NAME: NAME.csv (the grains, mm, angles \
+folded by symmetry, with confidence and cut columns), NAME_overlay.png with --overlay, and \
+NAME.meta.json (the sidecar `facets analyse` reads) when --phi0 and --silo-width-mm are given. \
+Photographs of the same name (c1/p.png, c2/p.png) would write the same table: such a batch is \
+refused; detect them into different --out folders.\n\n\
+Examples:\n  facets detect photos/ --shape square --px-per-mm 8 --out detected/ --overlay\n  \
+facets detect p.png --shape rod3 --px-per-mm 10 --phi0 0.25 --silo-width-mm 256 \
+--frame-mm 0,256,290,410 --out detected/"
+)]
 pub struct Args {
     /// Photographs (8/16-bit PNG, TIFF, JPEG) or folders of them.
     #[arg(required = true)]
     pub photos: Vec<PathBuf>,
-    /// Grain outline in the photographs.
+    /// Grain outline in the photographs: square, rod53, rod3 (the experiment's grains, as in
+    /// every command), or rod with --length-mm for other rods.
     #[arg(long, value_enum)]
-    pub shape: Shape,
-    /// Rod length / width: "5/3" (4.9 mm rods), "3" (8.9 mm rods), or any d >= 1 (length
-    /// d x 3 mm). Ignored for squares.
-    #[arg(long, default_value = "1", value_parser = detection::parse_aspect)]
-    pub aspect: f64,
+    pub shape: ShapeName,
+    /// Length of the rods of --shape rod (mm), 1 to 20 widths.
+    #[arg(long)]
+    pub length_mm: Option<f64>,
+    /// Width of the rods of --shape rod (mm; default 3).
+    #[arg(long)]
+    pub width_mm: Option<f64>,
     /// Scale of the photographs in pixels per millimetre.
     #[arg(long)]
     pub px_per_mm: f64,
-    /// Folder for the tables (<photo>.csv) and overlays (<photo>_overlay.png).
+    /// Folder for the tables (NAME.csv), sidecars and overlays.
     #[arg(long, default_value = ".")]
     pub out: PathBuf,
     /// Also write the detected outlines drawn over each photograph.
@@ -42,6 +47,20 @@ pub struct Args {
     /// Refuse fits whose agreement with the photograph is below this (0..1).
     #[arg(long, default_value_t = 0.5)]
     pub min_confidence: f64,
+    /// phi0 of the rain that built the deposits photographed; with --silo-width-mm, each table
+    /// gets its sidecar NAME.meta.json.
+    #[arg(long, requires = "silo_width_mm")]
+    pub phi0: Option<f64>,
+    /// Silo width W (mm) of the deposits photographed; with --phi0.
+    #[arg(long, requires = "phi0")]
+    pub silo_width_mm: Option<f64>,
+    /// Where the photographs lie in the silo: x_min,x_max,y_min,y_max in mm, x from the left
+    /// wall, y from the floor (as every command's --frame-mm); the tables are written in the
+    /// silo's coordinates. Default: the photograph's bottom-left corner at the left wall and
+    /// the floor. Needs --phi0 and --silo-width-mm.
+    #[arg(long, value_name = "X_MIN,X_MAX,Y_MIN,Y_MAX", value_parser = FrameMm::parse,
+          allow_hyphen_values = true, requires = "phi0")]
+    pub frame_mm: Option<FrameMm>,
     #[command(flatten)]
     pub shortcuts: ShortcutArgs,
     /// Also print, for each photograph, where the detector's time went: the wall time of
@@ -51,32 +70,52 @@ pub struct Args {
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let shape = detection::grain_shape(matches!(args.shape, Shape::Square), args.aspect)?;
+    let sought = Sought::new(args.shape, args.length_mm, args.width_mm)?;
     let mut params = args
         .shortcuts
         .shortcuts()
-        .apply(DetectParams::new(shape, args.px_per_mm * 1e3));
+        .apply(DetectParams::new(sought.shape()?, args.px_per_mm * 1e3));
     params.min_confidence = args.min_confidence;
     params.validate()?;
-    let list = detection::collect_photos(&args.photos)?;
-    if list.is_empty() {
+    let in_silo = match (args.phi0, args.silo_width_mm) {
+        (Some(phi0), Some(silo_width_mm)) => {
+            let place = InSilo {
+                silo_width_mm,
+                phi0,
+                framing: args
+                    .frame_mm
+                    .map_or(Framing::Corner([0.0, 0.0]), Framing::Frame),
+            };
+            place.validate_options()?;
+            Some(place)
+        }
+        _ => None,
+    };
+    let photos = detection::collect_photos(&args.photos)?;
+    if photos.is_empty() {
         bail!("no PNG, TIFF or JPEG photographs found in the paths given");
     }
+    let tables = detection::table_paths(&photos, &args.out)?;
     std::fs::create_dir_all(&args.out)?;
-    let bar = ProgressBar::new(list.len() as u64).with_style(ProgressStyle::with_template(
+    let bar = ProgressBar::new(photos.len() as u64).with_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} photographs {elapsed_precise}",
     )?);
-    let results: Vec<_> = list
-        .par_iter()
-        .map(|p| {
-            let r = detection::detect_photo(p, &params, &args.out, args.overlay);
-            bar.inc(1);
-            (p, r)
-        })
-        .collect();
+    let results = detection::detect_all(
+        &photos,
+        &tables,
+        &params,
+        args.overlay,
+        in_silo.as_ref(),
+        &|| bar.inc(1),
+    );
     bar.finish_and_clear();
+    let check = format!(
+        "{} and --px-per-mm ({}), or look at --overlay",
+        sought.options(),
+        args.px_per_mm
+    );
     let mut failed = 0;
-    for (photo, result) in results {
+    for (photo, result) in photos.iter().zip(results) {
         match result {
             Ok(r) if r.grains == 0 => {
                 eprintln!("warning: no grains found in {}", photo.display())
@@ -92,7 +131,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
                 if args.timings {
                     println!("  steps (s): {}", detection::steps_line(&r.phases));
                 }
-                let check = what_to_check(&args);
                 if let Some(warning) = detection::poorly_explained(photo, r.explained, &check) {
                     eprintln!("warning: {warning}");
                 }
@@ -103,24 +141,14 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             }
         }
     }
+    if in_silo.is_none() {
+        eprintln!(
+            "note: no sidecars written (NAME.meta.json): give --phi0 and --silo-width-mm (and \
+             --frame-mm) for `facets analyse` to read the tables without options"
+        );
+    }
     if failed > 0 {
-        bail!("{failed} of {} photographs failed", list.len());
+        bail!("{failed} of {} photographs failed", photos.len());
     }
     Ok(())
-}
-
-/// What to check when a photograph's dark area is left largely unexplained.
-fn what_to_check(args: &Args) -> String {
-    let shape = match args.shape {
-        Shape::Square => "--shape".to_string(),
-        Shape::Rod => {
-            let aspect = format!("{:.3}", args.aspect);
-            let aspect = aspect.trim_end_matches('0').trim_end_matches('.');
-            format!("--shape and --aspect (given {aspect})")
-        }
-    };
-    format!(
-        "{shape} and --px-per-mm ({}), or look at --overlay",
-        args.px_per_mm
-    )
 }

@@ -3,22 +3,20 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, bail};
-use clap::{Args as ClapArgs, ValueEnum};
-use image::ImageFormat;
-use vision::GrainShape;
+use clap::Args as ClapArgs;
 use vision::packing::{Packing, generate};
-use vision::render::{Style, render};
+use vision::render::Style;
 
-use facets::deposit::{read_deposit_csv, write_deposit_csv};
-use facets::io::write_atomic;
-use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame};
+use facets::deposit::{FrameMm, read_deposit_csv};
+use facets::grains::GrainKind;
+use facets::photo::{Region, deposit_of, frame_deposit, photograph_frame, write_photograph};
 
 #[derive(Debug, ClapArgs)]
 #[command(
     after_help = "Writes the photograph (PNG) and, beside it, its ground truth: \
 PHOTO.truth.csv with the grains that show in the frame, coordinates relative to the frame's \
 bottom-left corner (mm, y up), angles folded by symmetry, and cut = 1 for grains the frame cuts.\n\n\
-Examples:\n  facets render deposit.csv --px-per-mm 10 --frame 0,290,258,120 --out photo.png\n  \
+Examples:\n  facets render deposit.csv --px-per-mm 10 --frame-mm 0,258,290,410 --out photo.png\n  \
 facets render --generate rod3 --packing ordered --px-per-mm 6 --style hard --out rods.png"
 )]
 pub struct Args {
@@ -30,7 +28,7 @@ pub struct Args {
     /// Instead of a deposit table, photograph a generated dense packing of this grain:
     /// square (6.9 mm nut), rod53 (4.9 x 3 mm), rod3 (8.9 x 3 mm).
     #[arg(long, value_enum)]
-    generate: Option<Generated>,
+    generate: Option<GrainKind>,
 
     /// How the generated packing was laid down: ordered (slow fill, grains mostly flat) or
     /// disordered (fast fill, random orientations).
@@ -45,11 +43,11 @@ pub struct Args {
     #[arg(long)]
     out: PathBuf,
 
-    /// Region photographed, x0,y0,width,height in mm of the deposit's coordinates (bottom-left
-    /// corner and size). Default: around all grains of a deposit; 0,0,258,120 for a generated
-    /// packing (whose position does not matter: only width and height count).
-    #[arg(long, value_parser = parse_frame)]
-    frame: Option<[f64; 4]>,
+    /// Region photographed, x_min,x_max,y_min,y_max in mm of the deposit's coordinates (as
+    /// every command's --frame-mm). Default: around all grains of a deposit; 0,258,0,120 for
+    /// a generated packing (whose position does not matter: only width and height count).
+    #[arg(long, value_name = "X_MIN,X_MAX,Y_MIN,Y_MAX", value_parser = FrameMm::parse, allow_hyphen_values = true)]
+    frame_mm: Option<FrameMm>,
 
     /// Look of the photograph: clean (even light, sharp), lab (uneven light, some blur, noise,
     /// dust, scratches) or hard (strong blur, low contrast, heavy noise, dirty glass).
@@ -65,12 +63,13 @@ pub struct Args {
     seed: u64,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
-enum Generated {
-    Square,
-    Rod53,
-    Rod3,
-}
+/// The frame of a generated packing when none is given (mm).
+const GENERATED_FRAME: FrameMm = FrameMm {
+    x_min: 0.0,
+    x_max: 258.0,
+    y_min: 0.0,
+    y_max: 120.0,
+};
 
 fn parse_bits(text: &str) -> Result<u8, String> {
     match text.trim() {
@@ -80,38 +79,16 @@ fn parse_bits(text: &str) -> Result<u8, String> {
     }
 }
 
-fn parse_frame(text: &str) -> Result<[f64; 4], String> {
-    let values: Vec<f64> = text
-        .split(',')
-        .map(|v| v.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|e| format!("`{text}`: {e}; expected four numbers x0,y0,width,height in mm"))?;
-    match values[..] {
-        [x0, y0, w, h] if values.iter().all(|v| v.is_finite()) && w > 0.0 && h > 0.0 => {
-            Ok([x0, y0, w, h])
-        }
-        _ => Err(format!(
-            "`{text}`: expected four finite numbers x0,y0,width,height in mm, width and height positive"
-        )),
-    }
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
     let style = Style::named(&args.style).context("unknown style")?;
-    let mm = |v: [f64; 4]| Region {
-        x0: v[0] * 1e-3,
-        y0: v[1] * 1e-3,
-        width: v[2] * 1e-3,
-        height: v[3] * 1e-3,
-    };
     let (outlines, truth, frame) = match (&args.deposit, args.generate) {
         (Some(path), _) => {
             let deposit = read_deposit_csv(path)?;
-            let region = match args.frame {
-                Some(f) => mm(f),
+            let region = match &args.frame_mm {
+                Some(f) => Region::of_frame(f),
                 None => Region::around(&deposit).with_context(|| {
                     format!(
-                        "{}: the deposit has no grains; give --frame",
+                        "{}: the deposit has no grains; give --frame-mm",
                         path.display()
                     )
                 })?,
@@ -121,19 +98,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
             (outlines, truth, frame)
         }
         (None, Some(kind)) => {
-            let region = mm(args.frame.unwrap_or([0.0, 0.0, 258.0, 120.0]));
+            let region = Region::of_frame(&args.frame_mm.unwrap_or(GENERATED_FRAME));
             let frame = photograph_frame(&region, args.px_per_mm)?;
-            let shape = match kind {
-                Generated::Square => GrainShape::nut(6.9e-3),
-                Generated::Rod53 => GrainShape::Rod {
-                    length: 4.9e-3,
-                    width: 3e-3,
-                },
-                Generated::Rod3 => GrainShape::Rod {
-                    length: 8.9e-3,
-                    width: 3e-3,
-                },
-            };
+            let shape = kind.photographed();
             let packed = generate(shape, args.packing, &frame, args.seed);
             eprintln!(
                 "generated packing: fraction {:.3}, deepest overlap {:.2} % of D, {:.1} % of grains touching a neighbour",
@@ -149,13 +116,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if outlines.is_empty() {
         eprintln!("warning: no grain of the deposit shows in the frame; the photograph is empty");
     }
-    let photo = render(&outlines, &frame, &style, args.seed).to_image(args.bits);
-    write_atomic(&args.out, |w| {
-        photo.write_to(w, ImageFormat::Png)?;
-        Ok(())
-    })?;
-    let truth_path = args.out.with_extension("truth.csv");
-    write_deposit_csv(&truth_path, &truth)?;
+    let truth_path = write_photograph(
+        &args.out, &outlines, &truth, &frame, &style, args.seed, args.bits,
+    )?;
     let cut = truth.grains.iter().filter(|g| g.cut).count();
     eprintln!(
         "{}: {} x {} px, {} grains ({cut} cut by the frame); truth in {}",

@@ -1,9 +1,13 @@
 use std::path::PathBuf;
+use std::sync::Mutex;
 
 use clap::Args as ClapArgs;
+use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
 
 use facets::reproduce::slurm::{SlurmOptions, write_slurm};
-use facets::reproduce::{Plan, Shard, collect, reproduce, reproduce_shard};
+use facets::reproduce::{Event, Plan, Shard, collect, reproduce, reproduce_shard};
+
+use super::progress::FillingBars;
 
 /// Reproduce the whole study: simulations, stand-in photographs, detection, analysis, figures
 /// and a report.
@@ -134,7 +138,8 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     if let Some(task) = args.task {
         let tasks = args.tasks.unwrap_or(0);
         let shard = Shard::new(task, tasks)?;
-        let done = reproduce_shard(&plan, photos, &args.out, shard)?;
+        let display = StageBars::new();
+        let done = reproduce_shard(&plan, photos, &args.out, shard, &|e| display.show(e))?;
         for t in &done.stages {
             println!("{:>10}: {:.1} s", t.stage, t.seconds);
         }
@@ -147,14 +152,16 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         );
         return Ok(());
     }
+    let display = StageBars::new();
+    let progress = |e: Event| display.show(e);
     let report = if args.collect {
-        collect(&plan, photos, &args.out, args.tasks)?
+        collect(&plan, photos, &args.out, args.tasks, &progress)?
     } else {
         anyhow::ensure!(
             args.tasks.is_none(),
             "--tasks needs --task, --collect or --slurm"
         );
-        reproduce(&plan, photos, &args.out)?
+        reproduce(&plan, photos, &args.out, &progress)?
     };
     for t in &report.stages {
         println!("{:>10}: {:.1} s", t.stage, t.seconds);
@@ -167,4 +174,68 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     }
     println!("report: {}", args.out.join("report.md").display());
     Ok(())
+}
+
+/// The reproduction's progress: a bar per stage, a bar per running filling under it, and
+/// warnings printed between the bars.
+struct StageBars {
+    bars: MultiProgress,
+    stage: Mutex<Option<ProgressBar>>,
+    fillings: FillingBars,
+}
+
+impl StageBars {
+    fn new() -> Self {
+        let bars = MultiProgress::new();
+        let fillings = FillingBars::new(&bars, 30, false);
+        Self {
+            bars,
+            stage: Mutex::new(None),
+            fillings,
+        }
+    }
+
+    fn show(&self, event: Event) {
+        let Ok(mut stage) = self.stage.lock() else {
+            return;
+        };
+        match event {
+            Event::Stage {
+                stage: name,
+                counts,
+                total,
+            } => {
+                let style = ProgressStyle::with_template(
+                    "{prefix:>12} [{bar:40}] {pos}/{len} {msg} ({elapsed} / ETA {eta})",
+                )
+                .unwrap_or_else(|_| ProgressStyle::default_bar())
+                .progress_chars("=> ");
+                let bar = self
+                    .bars
+                    .add(ProgressBar::new(total as u64).with_style(style));
+                bar.set_prefix(name);
+                bar.set_message(counts);
+                *stage = Some(bar);
+            }
+            Event::Working(item) => {
+                if let Some(bar) = stage.as_ref() {
+                    bar.set_message(item.to_string());
+                }
+            }
+            Event::Done => {
+                if let Some(bar) = stage.as_ref() {
+                    bar.inc(1);
+                }
+            }
+            Event::StageEnd => {
+                if let Some(bar) = stage.take() {
+                    bar.finish();
+                }
+            }
+            Event::Filling(name, event) => self.fillings.show(name, event),
+            // Not `println` on a bar: a bar hidden (stderr not a terminal: a log, a pipe)
+            // prints nothing, and the warning would be lost where it is most read.
+            Event::Warning(text) => self.bars.suspend(|| eprintln!("warning: {text}")),
+        }
+    }
 }

@@ -1,14 +1,10 @@
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
-use anyhow::Context;
 use clap::Args as ClapArgs;
-use indicatif::{MultiProgress, ProgressBar};
-use rayon::prelude::*;
+use indicatif::MultiProgress;
 
-use facets::fill::{
-    Checkpoint, FillControl, FillOutcome, FillProgress, StopAt, check_writable, fill_with,
-};
-use facets::scene::{Scene, load_scene};
+use facets::fill::{FillJob, FillOutcome, Runs, default_out, fill_all, planned_runs};
+use facets::scene::load_scene;
 
 /// Fill a silo as a scene file describes, relax the deposit and write it.
 ///
@@ -22,6 +18,8 @@ use facets::scene::{Scene, load_scene};
 /// the command that resumes them and exits with status 130 (a second Ctrl-C exits at once).
 /// `--resume` continues checkpoints with the same result, bit for bit, as a run that was never
 /// stopped. `[output] checkpoint_every_s` in the scene also writes checkpoint.bin on the way.
+/// A folder that holds an earlier run (run.json or checkpoint.bin) is refused unless
+/// `--restart` says to start over.
 #[derive(Debug, ClapArgs)]
 #[command(verbatim_doc_comment)]
 pub struct Args {
@@ -43,86 +41,49 @@ pub struct Args {
     /// belongs to another scene, seed or version of facets.
     #[arg(long, num_args = 1..)]
     pub resume: Vec<PathBuf>,
-}
-
-/// One run to do: its seed, its folder and the checkpoint it continues.
-struct Job {
-    seed: u64,
-    dir: PathBuf,
-    resume: Option<Checkpoint>,
+    /// Start over in folders that hold an earlier run (its run.json or checkpoint.bin),
+    /// replacing its files; without it such folders are refused.
+    #[arg(long, conflicts_with = "resume")]
+    pub restart: bool,
 }
 
 pub fn run(args: Args) -> anyhow::Result<()> {
-    anyhow::ensure!(
-        args.realisations >= 1,
-        "--realisations 0: expected at least one run"
-    );
     let scene = load_scene(&args.scene)?;
-    let jobs = if args.resume.is_empty() {
-        let first = args.seed.unwrap_or(scene.run.seed);
-        let out = args.out.clone().unwrap_or_else(|| {
-            let stem = args.scene.file_stem().unwrap_or_default();
-            PathBuf::from("runs").join(stem)
-        });
-        (0..args.realisations)
-            .map(|k| Job {
-                seed: first + k,
-                dir: out.join(format!("seed-{}", first + k)),
-                resume: None,
-            })
-            .collect()
+    let runs = if args.resume.is_empty() {
+        Runs::Fresh {
+            first_seed: args.seed.unwrap_or(scene.run.seed),
+            count: args.realisations,
+            out: args.out.clone().unwrap_or_else(|| default_out(&args.scene)),
+            restart: args.restart,
+        }
     } else {
-        resumed_jobs(&args, &scene)?
+        Runs::Resume {
+            checkpoints: args.resume.clone(),
+            seed: args.seed,
+            out: args.out.clone(),
+        }
     };
-    // Refuse an unwritable folder before any simulating.
-    for job in &jobs {
-        check_writable(&job.dir)?;
-    }
-    super::progress::stop_fillings_on_ctrl_c()?;
-    let bars = MultiProgress::new();
-    let style = super::progress::filling_style(10);
-    let outcomes: Vec<(u64, PathBuf, anyhow::Result<FillOutcome>)> = jobs
-        .into_par_iter()
-        .map(|job| {
-            let seed = job.seed;
-            let bar = bars.add(ProgressBar::new(1).with_style(style.clone()));
-            bar.set_prefix(format!("seed {seed}"));
-            let mut update = |p: FillProgress| {
-                bar.set_length((p.expected_end.max(p.time) * 1e3) as u64);
-                bar.set_position((p.time * 1e3) as u64);
-                let phase = if p.relaxing {
-                    format!(
-                        "relaxing, kinetic/elastic {:.1e}, load/weight off by {:.2} %",
-                        p.energy_ratio,
-                        100.0 * p.load_imbalance
-                    )
-                } else {
-                    "filling".to_string()
-                };
-                let asleep = if p.asleep > 0 {
-                    format!(", {} asleep", p.asleep)
-                } else {
-                    String::new()
-                };
-                bar.set_message(format!(
-                    "{}/{} grains in{asleep}, {phase}",
-                    p.inserted, p.total
-                ));
-            };
-            let control = FillControl {
-                resume: job.resume,
-                stop: StopAt::Never,
-                interrupt: Some(&super::progress::INTERRUPT),
-            };
-            let outcome = fill_with(&scene, seed, &job.dir, control, &mut update)
-                .with_context(|| format!("run seed {seed} ({})", args.scene.display()));
-            bar.finish();
-            (seed, job.dir, outcome)
+    let planned = planned_runs(&scene, &args.scene, &runs)?;
+    let jobs: Vec<FillJob> = planned
+        .iter()
+        .map(|r| FillJob {
+            label: format!("run seed {} ({})", r.seed, args.scene.display()),
+            scene: &scene,
+            seed: r.seed,
+            dir: r.dir.clone(),
+            resume: r.resume.clone(),
         })
         .collect();
+    super::progress::stop_fillings_on_ctrl_c()?;
+    let bars = MultiProgress::new();
+    let fillings = super::progress::FillingBars::new(&bars, 10, true);
+    let outcomes = fill_all(&jobs, Some(&super::progress::INTERRUPT), &|k, event| {
+        fillings.show(&format!("seed {}", jobs[k].seed), event)
+    });
     let mut unrelaxed = Vec::new();
     let mut stopped = Vec::new();
-    for (seed, dir, outcome) in outcomes {
+    for (job, outcome) in jobs.iter().zip(outcomes) {
+        let (seed, dir) = (job.seed, &job.dir);
         let r = match outcome? {
             FillOutcome::Finished(r) => r,
             FillOutcome::Stopped {
@@ -175,38 +136,4 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         scene.run.max_relaxation_time_s
     );
     Ok(())
-}
-
-/// The runs `--resume` continues, each checked against the scene (and `--seed`) before any
-/// simulating.
-fn resumed_jobs(args: &Args, scene: &Scene) -> anyhow::Result<Vec<Job>> {
-    let mut jobs: Vec<Job> = Vec::new();
-    for path in &args.resume {
-        let checkpoint = Checkpoint::read(path)?;
-        let seed = args.seed.unwrap_or(checkpoint.seed());
-        checkpoint.check_matches(scene, seed).with_context(|| {
-            format!(
-                "cannot resume {} with scene {} and seed {seed}",
-                path.display(),
-                args.scene.display()
-            )
-        })?;
-        anyhow::ensure!(
-            jobs.iter().all(|j| j.seed != seed),
-            "--resume: two checkpoints of seed {seed}"
-        );
-        let dir = match &args.out {
-            Some(out) => out.join(format!("seed-{seed}")),
-            None => path
-                .parent()
-                .filter(|p| !p.as_os_str().is_empty())
-                .map_or_else(|| PathBuf::from("."), Path::to_path_buf),
-        };
-        jobs.push(Job {
-            seed,
-            dir,
-            resume: Some(checkpoint),
-        });
-    }
-    Ok(jobs)
 }

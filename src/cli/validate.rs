@@ -1,11 +1,8 @@
-use std::collections::HashMap;
 use std::path::PathBuf;
-use std::sync::Mutex;
 
 use clap::Args as ClapArgs;
-use indicatif::{MultiProgress, ProgressBar};
+use indicatif::MultiProgress;
 
-use facets::validate::run::RunEvent;
 use facets::validate::{Options, Progress, validate};
 
 /// Run a study's cases as ensembles and judge them against the study's findings F1-F5.
@@ -49,43 +46,11 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         super::progress::stop_fillings_on_ctrl_c()?;
     }
     let bars = MultiProgress::new();
-    let style = super::progress::filling_style(24);
-    let running: Mutex<HashMap<(String, u64), ProgressBar>> = Mutex::new(HashMap::new());
+    let fillings = super::progress::FillingBars::new(&bars, 24, false);
     let measuring = bars.add(super::progress::bar(0, "measuring"));
     let progress = |p: Progress| match p {
         Progress::Run(job, event) => {
-            let key = (job.case_name.clone(), job.seed);
-            let Ok(mut running) = running.lock() else {
-                return;
-            };
-            match event {
-                RunEvent::Reused => {}
-                RunEvent::Started { resumed } => {
-                    let bar = bars.add(ProgressBar::new(1).with_style(style.clone()));
-                    bar.set_prefix(format!("{} seed {}", job.case_name, job.seed));
-                    if resumed {
-                        bar.set_message("resuming");
-                    }
-                    running.insert(key, bar);
-                }
-                RunEvent::Filling(f) => {
-                    if let Some(bar) = running.get(&key) {
-                        bar.set_length((f.expected_end.max(f.time) * 1e3) as u64);
-                        bar.set_position((f.time * 1e3) as u64);
-                        bar.set_message(if f.relaxing {
-                            format!("relaxing, kinetic/elastic {:.1e}", f.energy_ratio)
-                        } else {
-                            format!("{}/{} grains in", f.inserted, f.total)
-                        });
-                    }
-                }
-                RunEvent::Finished { .. } | RunEvent::Stopped => {
-                    if let Some(bar) = running.remove(&key) {
-                        bar.finish_and_clear();
-                        bars.remove(&bar);
-                    }
-                }
-            }
+            fillings.show(&format!("{} seed {}", job.case_name, job.seed), event)
         }
         Progress::Measured { done, total } => {
             measuring.set_length(total as u64);

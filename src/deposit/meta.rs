@@ -30,6 +30,72 @@ pub struct FrameMm {
     pub y_max: f64,
 }
 
+impl FrameMm {
+    /// How every command writes a frame (`--frame-mm`): x_min,x_max,y_min,y_max in mm.
+    pub const SYNTAX: &'static str = "x_min,x_max,y_min,y_max";
+
+    /// Reads `x_min,x_max,y_min,y_max` (mm) and checks it ([`FrameMm::check`]); the error
+    /// says what was expected, the caller names the option.
+    pub fn parse(text: &str) -> Result<FrameMm, String> {
+        let values: Vec<f64> = text
+            .split(',')
+            .map(|v| v.trim().parse::<f64>())
+            .collect::<Result<_, _>>()
+            .map_err(|e| {
+                format!(
+                    "`{text}`: {e}; expected four numbers {} in mm",
+                    Self::SYNTAX
+                )
+            })?;
+        let [x_min, x_max, y_min, y_max] = values[..] else {
+            return Err(format!(
+                "`{text}` has {} values, expected four: {} in mm",
+                values.len(),
+                Self::SYNTAX
+            ));
+        };
+        let frame = FrameMm {
+            x_min,
+            x_max,
+            y_min,
+            y_max,
+        };
+        frame.check("the frame").map_err(|e| e.to_string())?;
+        Ok(frame)
+    }
+
+    /// Refuses a frame that is not a finite rectangle of positive size, naming it `name` (an
+    /// option or a field).
+    pub fn check(&self, name: &str) -> anyhow::Result<()> {
+        let f = self;
+        let ok = [f.x_min, f.x_max, f.y_min, f.y_max]
+            .iter()
+            .all(|v| v.is_finite())
+            && f.x_max > f.x_min
+            && f.y_max > f.y_min;
+        if !ok {
+            bail!(
+                "{name} is {},{},{},{} mm, expected finite {} with x_min < x_max and \
+                 y_min < y_max",
+                f.x_min,
+                f.x_max,
+                f.y_min,
+                f.y_max,
+                Self::SYNTAX
+            );
+        }
+        Ok(())
+    }
+
+    pub fn width_mm(&self) -> f64 {
+        self.x_max - self.x_min
+    }
+
+    pub fn height_mm(&self) -> f64 {
+        self.y_max - self.y_min
+    }
+}
+
 /// Where a deposit came from; experiment and simulation are drawn in two styles.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]
@@ -67,6 +133,36 @@ impl DepositMeta {
         self.check(&|field| format!("field `{field}`"))
     }
 
+    /// The sidecar given as command-line options (`--phi0`, `--silo-width-mm`, `--frame-mm`,
+    /// `--source`) for tables without one, checked; None when none is given.
+    pub fn from_options(
+        phi0: Option<f64>,
+        silo_width_mm: Option<f64>,
+        frame_mm: Option<FrameMm>,
+        source: Source,
+    ) -> anyhow::Result<Option<DepositMeta>> {
+        match (phi0, silo_width_mm) {
+            (Some(phi0), Some(silo_width_mm)) => {
+                let meta = DepositMeta {
+                    silo_width_mm,
+                    phi0,
+                    frame_mm,
+                    areal_density_kg_m2: None,
+                    gravity_m_s2: None,
+                    source,
+                };
+                meta.validate_options()?;
+                Ok(Some(meta))
+            }
+            (None, None) if frame_mm.is_some() => bail!(
+                "--frame-mm is the frame of deposits without a sidecar: it needs --phi0 and \
+                 --silo-width-mm"
+            ),
+            (None, None) => Ok(None),
+            _ => bail!("--phi0 and --silo-width-mm go together"),
+        }
+    }
+
     /// [`DepositMeta::validate`] of a sidecar given as command-line options (`--phi0`,
     /// `--silo-width-mm`, `--frame-mm`), naming the option that is wrong.
     pub fn validate_options(&self) -> anyhow::Result<()> {
@@ -89,17 +185,7 @@ impl DepositMeta {
             );
         }
         if let Some(f) = self.frame_mm {
-            let ok = [f.x_min, f.x_max, f.y_min, f.y_max]
-                .iter()
-                .all(|v| v.is_finite())
-                && f.x_max > f.x_min
-                && f.y_max > f.y_min;
-            if !ok {
-                bail!(
-                    "{} is {f:?}, expected finite x_min < x_max and y_min < y_max",
-                    name("frame_mm")
-                );
-            }
+            f.check(&name("frame_mm"))?;
         }
         for (field, v) in [
             ("areal_density_kg_m2", self.areal_density_kg_m2),
@@ -184,6 +270,25 @@ pub fn write_meta_json(path: &Path, meta: &DepositMeta) -> anyhow::Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_frame_is_read_in_one_syntax_and_checked() {
+        let f = FrameMm::parse("0, 160,-5,150").unwrap();
+        assert_eq!(
+            [f.x_min, f.x_max, f.y_min, f.y_max],
+            [0.0, 160.0, -5.0, 150.0]
+        );
+        for bad in [
+            "0,160,0",
+            "0,160,0,150,1",
+            "a,160,0,150",
+            "160,0,0,150",
+            "0,160,0,NaN",
+        ] {
+            let e = FrameMm::parse(bad).unwrap_err();
+            assert!(e.contains("x_min,x_max,y_min,y_max"), "{bad}: {e}");
+        }
+    }
 
     #[test]
     fn sidecar_errors_name_the_field() {

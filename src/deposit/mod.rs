@@ -15,6 +15,7 @@ mod area;
 mod built;
 mod contact;
 mod ensemble;
+mod folders;
 mod grain;
 mod meta;
 mod shape;
@@ -25,6 +26,7 @@ pub use area::{AnalysedArea, WALL_MARGIN};
 pub use built::SquareStack;
 pub use contact::{Contact, Partner, Wall, read_contacts_csv, write_contacts_csv};
 pub use ensemble::{Ensemble, LoadOptions, Realisation, load_realisation};
+pub use folders::deposit_tables;
 pub use grain::{Grain, fold_angle};
 pub use meta::{
     DepositMeta, FrameMm, Source, contacts_path, meta_path, read_meta_json, write_meta_json,

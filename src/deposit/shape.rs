@@ -1,8 +1,11 @@
 use serde::{Deserialize, Serialize};
 
 use super::{Deposit, Grain};
+use crate::grains::GrainKind;
 
-/// The three grain shapes of the experiment (docs/model.md §1), told apart by aspect ratio L/D.
+/// The three grain shapes of the experiment (docs/model.md §1) as the analysis tells them
+/// apart in a table, by aspect ratio L/D: the [`GrainKind`] of each class, with the names
+/// the figures and summaries give it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Shape {
@@ -12,6 +15,16 @@ pub enum Shape {
     ShortRod,
     /// Long rods, d = 3.
     LongRod,
+}
+
+impl From<GrainKind> for Shape {
+    fn from(kind: GrainKind) -> Self {
+        match kind {
+            GrainKind::Square => Shape::Square,
+            GrainKind::ShortRod => Shape::ShortRod,
+            GrainKind::LongRod => Shape::LongRod,
+        }
+    }
 }
 
 impl Shape {
@@ -36,12 +49,18 @@ impl Shape {
         }
     }
 
+    /// The grain kind of this class.
+    pub fn kind(self) -> GrainKind {
+        match self {
+            Shape::Square => GrainKind::Square,
+            Shape::ShortRod => GrainKind::ShortRod,
+            Shape::LongRod => GrainKind::LongRod,
+        }
+    }
+
     /// docs/model.md §2: nuts 20.3 kg/m^2 (net of the hole, over the square outline), rods 18.5 kg/m^2.
     pub fn default_areal_density(self) -> f64 {
-        match self {
-            Shape::Square => 20.3,
-            _ => 18.5,
-        }
+        self.kind().areal_density()
     }
 
     /// The angle after which the outline looks the same.

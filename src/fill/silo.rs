@@ -1,5 +1,5 @@
 use anyhow::Context;
-use sim::{ShapeId, Spheropolygon, Vec2, Wall, World, WorldSettings};
+use sim::{ShapeId, SimError, Vec2, Wall, World, WorldSettings};
 
 use super::feeder::{Feeder, Rain};
 use super::walls::{lay_grain_walls, lay_rough_walls};
@@ -37,7 +37,7 @@ impl Silo {
         let mut world = World::new(WorldSettings {
             law: scene.contact.law(),
             gravity: Vec2::new(0.0, -scene.contact.gravity_m_s2),
-            time_step: scene.run.time_step_s,
+            time_step: Some(scene.time_step()?),
             wall_friction: scene.contact.wall_friction,
             plate_friction: scene.plates.friction_model(),
             ..WorldSettings::default()
@@ -57,22 +57,18 @@ impl Silo {
             world.add_wall(Wall::new(Vec2::new(-d, 0.0), Vec2::new(1.0, 0.0)))?;
             world.add_wall(Wall::new(Vec2::new(width + d, 0.0), Vec2::new(-1.0, 0.0)))?;
         }
-        let outline =
-            Spheropolygon::rounded_rectangle(g.length(), g.width(), g.rounding() * g.width())
-                .context("in the scene's [grains] section")?;
+        let outline = g.outline()?;
         let (reach, area) = (outline.bounding_radius(), outline.area());
-        let (mass, _) = outline
-            .mass_properties(g.areal_density())
-            .context("in the scene's [grains] section")?;
         let shape = world
             .add_shape(outline, g.areal_density())
-            .context("in the scene's [grains] or [run] section")?;
-        if scene.run.time_step_s.is_none() {
-            let t_c = sim::collision_time(&scene.contact.law(), mass / 2.0);
-            world
-                .set_time_step(t_c / scene.model.steps_per_collision)
-                .context("field `model.steps_per_collision`: the step it gives is unstable")?;
-        }
+            .map_err(|e| match e {
+                SimError::TimeStepTooLarge { .. } if scene.run.time_step_s.is_some() => {
+                    anyhow::Error::new(e).context("field `run.time_step_s` is unstable")
+                }
+                SimError::TimeStepTooLarge { .. } => anyhow::Error::new(e)
+                    .context("field `model.steps_per_collision`: the step it gives is unstable"),
+                e => anyhow::Error::new(e).context("in the scene's [grains] section"),
+            })?;
         world
             .set_sleep(scene.model.sleep_settings())
             .context("in the scene's [model] section")?;

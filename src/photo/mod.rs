@@ -1,10 +1,15 @@
 //! Between deposit tables and photographs: grain outlines from a deposit, and the truth table
 //! of a photograph.
 
+use std::path::{Path, PathBuf};
+
 use anyhow::bail;
+use image::ImageFormat;
+use vision::render::{Style, render};
 use vision::{Frame, GrainOutline, GrainShape};
 
-use crate::deposit::{Deposit, Grain};
+use crate::deposit::{Deposit, FrameMm, Grain, write_deposit_csv};
+use crate::io::write_atomic;
 
 /// The outline of a deposit grain: a nut (hole scaled with the side: 3.3 mm for 6.9 mm) when
 /// its sides are equal, else a rod.
@@ -36,6 +41,16 @@ pub struct Region {
 }
 
 impl Region {
+    /// The region a frame in millimetres covers (`--frame-mm`).
+    pub fn of_frame(frame: &FrameMm) -> Region {
+        Region {
+            x0: frame.x_min * 1e-3,
+            y0: frame.y_min * 1e-3,
+            width: frame.width_mm() * 1e-3,
+            height: frame.height_mm() * 1e-3,
+        }
+    }
+
     /// The smallest region holding every grain of a deposit whole.
     pub fn around(deposit: &Deposit) -> Option<Region> {
         let mut b = [
@@ -66,7 +81,7 @@ impl Region {
 pub const MAX_PIXELS: f64 = 100e6;
 
 /// The frame of a photograph of `region` at `px_per_mm`, checked: a finite positive scale
-/// (`--px-per-mm`), a finite region of positive size (`--frame`), at least one pixel and at
+/// (`--px-per-mm`), a finite region of positive size (`--frame-mm`), at least one pixel and at
 /// most [`MAX_PIXELS`].
 pub fn photograph_frame(region: &Region, px_per_mm: f64) -> anyhow::Result<Frame> {
     if !(px_per_mm.is_finite() && px_per_mm > 0.0) {
@@ -80,12 +95,13 @@ pub fn photograph_frame(region: &Region, px_per_mm: f64) -> anyhow::Result<Frame
     } = *region;
     if !([x0, y0, width, height].iter().all(|v| v.is_finite()) && width > 0.0 && height > 0.0) {
         bail!(
-            "--frame is {},{},{},{} mm, expected finite x0,y0,width,height with width and \
-             height above 0",
+            "--frame-mm is {},{},{},{} mm, expected finite {} with x_min < x_max and \
+             y_min < y_max",
             x0 * 1e3,
+            (x0 + width) * 1e3,
             y0 * 1e3,
-            width * 1e3,
-            height * 1e3
+            (y0 + height) * 1e3,
+            FrameMm::SYNTAX
         );
     }
     let scale = px_per_mm * 1e3;
@@ -98,7 +114,7 @@ pub fn photograph_frame(region: &Region, px_per_mm: f64) -> anyhow::Result<Frame
     if pixels > MAX_PIXELS {
         bail!(
             "the photograph would have {:.0} Mpx (frame {:.1} x {:.1} mm at {px_per_mm:.2} px/mm); \
-             the limit is {:.0} Mpx: lower --px-per-mm or give a smaller --frame",
+             the limit is {:.0} Mpx: lower --px-per-mm or give a smaller --frame-mm",
             pixels / 1e6,
             width * 1e3,
             height * 1e3,
@@ -108,7 +124,7 @@ pub fn photograph_frame(region: &Region, px_per_mm: f64) -> anyhow::Result<Frame
     if frame.columns() == 0 || frame.rows() == 0 {
         bail!(
             "the frame ({:.3} x {:.3} mm) is smaller than one pixel at {px_per_mm} px/mm \
-             (--px-per-mm, --frame)",
+             (--px-per-mm, --frame-mm)",
             width * 1e3,
             height * 1e3
         );
@@ -146,6 +162,33 @@ pub fn frame_deposit(
         );
     }
     (outlines, truth)
+}
+
+/// The truth table beside a photograph: `PHOTO.truth.csv`.
+pub fn truth_path(photo: &Path) -> PathBuf {
+    photo.with_extension("truth.csv")
+}
+
+/// Renders `outlines` over `frame` in `style` (noise, dust and light of `seed`) and writes the
+/// photograph as a PNG of `bits` bits per pixel, with its truth table beside it
+/// ([`truth_path`]), the truth first: a photograph on disk always has its truth.
+pub fn write_photograph(
+    path: &Path,
+    outlines: &[GrainOutline],
+    truth: &Deposit,
+    frame: &Frame,
+    style: &Style,
+    seed: u64,
+    bits: u8,
+) -> anyhow::Result<PathBuf> {
+    let image = render(outlines, frame, style, seed).to_image(bits);
+    let truth_file = truth_path(path);
+    write_deposit_csv(&truth_file, truth)?;
+    write_atomic(path, |w| {
+        image.write_to(w, ImageFormat::Png)?;
+        Ok(())
+    })?;
+    Ok(truth_file)
 }
 
 /// The deposit table of generated or detected outlines (frame coordinates).

@@ -5,23 +5,23 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use indicatif::ProgressBar;
 
 use super::detect::Detected;
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan, ShapePlan};
+use super::plan::{Plan, ShapePlan};
+use super::progress::{Event, Progress};
 use super::simulate::{Filled, Side};
-use crate::analysis::compare::{Comparison, compare};
+use crate::analysis::compare::{Comparison, compare, write_comparison};
 use crate::analysis::rdf::RdfInput;
-use crate::analysis::summary::{AnalysisParameters, Summary, analyse};
-use crate::deposit::{Ensemble, LoadOptions, Realisation, contacts_path, load_realisation};
-use crate::io::write_atomic;
+use crate::analysis::summary::{AnalysisParameters, Summary};
+use crate::analysis::tables::{Tables, analyse_tables, write_summary};
+use crate::grains::GrainKind;
 use crate::plot::write_figures;
 
 /// Both sides of one shape, measured.
 #[derive(Clone, Debug)]
 pub struct ShapeAnalysis {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub simulation: Option<Summary>,
     pub experiment: Option<Summary>,
     pub comparison: Option<Comparison>,
@@ -49,18 +49,22 @@ pub fn analyse_all(
     layout: &Layout,
     filled: &[Filled],
     detected: &[Detected],
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Vec<ShapeAnalysis>> {
-    let mut kinds: Vec<GrainKindName> = plan.shapes.iter().map(|s| s.kind).collect();
+    let mut kinds: Vec<GrainKind> = plan.shapes.iter().map(|s| s.kind).collect();
     for d in detected {
         if !kinds.contains(&d.kind) {
             kinds.push(d.kind);
         }
     }
-    bar.set_length(kinds.len() as u64);
+    progress(Event::Stage {
+        stage: "analyse",
+        counts: "shapes",
+        total: kinds.len(),
+    });
     let mut out = Vec::new();
     for kind in kinds {
-        bar.set_message(kind.name());
+        progress(Event::Working(kind.name()));
         let shape = plan.shapes.iter().find(|s| s.kind == kind);
         let params = parameters(plan, shape);
         let sim_tables: Vec<PathBuf> = filled
@@ -81,10 +85,7 @@ pub fn analyse_all(
         let comparison = match (&experiment, &simulation) {
             (Some(e), Some(s)) => {
                 let c = compare(e, s)?;
-                write_atomic(&figures_dir.join("comparison.json"), |w| {
-                    serde_json::to_writer_pretty(&mut *w, &c)?;
-                    Ok(())
-                })?;
+                write_comparison(&figures_dir, &c)?;
                 Some(c)
             }
             _ => None,
@@ -102,8 +103,9 @@ pub fn analyse_all(
             comparison,
             figures,
         });
-        bar.inc(1);
+        progress(Event::Done);
     }
+    progress(Event::StageEnd);
     Ok(out)
 }
 
@@ -116,27 +118,11 @@ fn side(
     if tables.is_empty() {
         return Ok(None);
     }
-    let realisations: Vec<Realisation> = tables
-        .iter()
-        .map(|t| load_realisation(t, &LoadOptions::default()))
-        .collect::<anyhow::Result<_>>()?;
-    let ensembles = Ensemble::group_by_phi0(realisations)?;
-    let examples: Vec<(String, Option<String>)> = ensembles
-        .iter()
-        .map(|e| {
-            let name = &e.realisations[0].name;
-            let contacts = contacts_path(Path::new(name));
-            (
-                name.clone(),
-                contacts.exists().then(|| contacts.display().to_string()),
-            )
-        })
-        .collect();
-    let summary = analyse(&ensembles, &examples, params, &|_| {})?;
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    write_atomic(&dir.join("summary.json"), |w| {
-        serde_json::to_writer_pretty(&mut *w, &summary)?;
-        Ok(())
-    })?;
+    let input = Tables {
+        tables: tables.to_vec(),
+        ..Tables::default()
+    };
+    let summary = analyse_tables(&input, params, &|_| {})?;
+    write_summary(dir, &summary)?;
     Ok(Some(summary))
 }

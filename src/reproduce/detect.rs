@@ -6,31 +6,26 @@
 //! recomputed from the files.
 
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 use anyhow::Context;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
 use vision::evaluate::{Tally, Truth, score};
-use vision::overlay::draw_outlines;
-use vision::{DetectParams, Detection, detect_report};
+use vision::{DetectParams, Detection};
 
 use super::layout::Layout;
 use super::photograph::Photo;
-use super::plan::GrainKindName;
-use crate::deposit::{
-    Deposit, DepositMeta, FrameMm, Source, meta_path, read_deposit_csv, write_deposit_csv,
-    write_meta_json,
+use super::progress::{Event, Progress};
+use crate::deposit::{Deposit, meta_path, read_deposit_csv};
+use crate::detection::{
+    Framing, InSilo, detect_photo, overlay_path, poorly_explained, shifted, stem,
 };
-use crate::detection::{grain_shape, poorly_explained, read_photo, to_deposit};
 use crate::grains::GrainKind;
-use crate::io::write_atomic;
 use crate::photo::outline_of;
 
 /// A detected table of one photograph.
 #[derive(Clone, Debug)]
 pub struct Detected {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub photo: PathBuf,
     pub table: PathBuf,
@@ -43,18 +38,15 @@ pub struct Detected {
 }
 
 /// The detector's outline for a grain kind (the experiment's nuts and rods).
-pub fn shape_of(kind: GrainKindName) -> anyhow::Result<vision::GrainShape> {
-    let k = GrainKind::from(kind);
-    grain_shape(kind == GrainKindName::Square, k.length() / k.width())
+pub fn shape_of(kind: GrainKind) -> anyhow::Result<vision::GrainShape> {
+    Ok(kind.photographed())
 }
 
 /// Where the detector's table of a photograph goes.
-pub fn table_path(layout: &Layout, kind: GrainKindName, phi0: f64, photo: &Path) -> PathBuf {
-    let stem = photo
-        .file_stem()
-        .and_then(|s| s.to_str())
-        .unwrap_or("photo");
-    layout.detected_dir(kind, phi0).join(format!("{stem}.csv"))
+pub fn table_path(layout: &Layout, kind: GrainKind, phi0: f64, photo: &Path) -> PathBuf {
+    layout
+        .detected_dir(kind, phi0)
+        .join(format!("{}.csv", stem(photo)))
 }
 
 /// A table is complete when its sidecar exists (written last).
@@ -68,19 +60,24 @@ pub fn detect_all(
     photos: &[Photo],
     layout: &Layout,
     overlays: &[PathBuf],
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Vec<Detected>> {
-    bar.set_length(photos.len() as u64);
+    progress(Event::Stage {
+        stage: "detect",
+        counts: "photographs",
+        total: photos.len(),
+    });
     let results: Vec<anyhow::Result<Detected>> = photos
         .par_iter()
         .map(|p| {
             let overlay = overlays.contains(&p.path);
-            let r = detect_one(p, layout, overlay, bar)
+            let r = detect_one(p, layout, overlay, progress)
                 .with_context(|| format!("photograph {}", p.path.display()));
-            bar.inc(1);
+            progress(Event::Done);
             r
         })
         .collect();
+    progress(Event::StageEnd);
     results.into_iter().collect()
 }
 
@@ -88,57 +85,27 @@ fn detect_one(
     photo: &Photo,
     layout: &Layout,
     want_overlay: bool,
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Detected> {
     let table = table_path(layout, photo.kind, photo.phi0, &photo.path);
     let dir = layout.detected_dir(photo.kind, photo.phi0);
     std::fs::create_dir_all(&dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let overlay_path = table.with_file_name(format!(
-        "{}_overlay.png",
-        table
-            .file_stem()
-            .and_then(|s| s.to_str())
-            .unwrap_or("photo")
-    ));
-    let scale = photo.px_per_mm * 1e3;
+    let overlay_path = overlay_path(&table);
     let mut seconds = None;
     if !table_done(&table) {
-        let params = DetectParams::new(shape_of(photo.kind)?, scale);
-        let image = read_photo(&photo.path, params.max_pixels)?;
-        let start = Instant::now();
-        let report = detect_report(&image, &params)?;
-        seconds = Some(start.elapsed().as_secs_f64());
-        let check = "the photograph's shape and px_per_mm in the manifest";
-        if let Some(warning) = poorly_explained(&photo.path, report.explained, check) {
-            // Not `bar.println`: a bar hidden (stderr not a terminal: a log, a pipe) prints
-            // nothing, and the warning would be lost where it is most read.
-            bar.suspend(|| eprintln!("warning: {warning}"));
-        }
-        let found = report.grains;
-        if want_overlay {
-            let drawn = draw_outlines(&image, &found, scale);
-            write_atomic(&overlay_path, |w| {
-                drawn.write_to(w, image::ImageFormat::Png)?;
-                Ok(())
-            })?;
-        }
-        let frame_mm = FrameMm {
-            x_min: photo.origin_mm[0],
-            x_max: photo.origin_mm[0] + image.width() as f64 / photo.px_per_mm,
-            y_min: photo.origin_mm[1],
-            y_max: photo.origin_mm[1] + image.height() as f64 / photo.px_per_mm,
-        };
-        let meta = DepositMeta {
+        let params = DetectParams::new(shape_of(photo.kind)?, photo.px_per_mm * 1e3);
+        let in_silo = InSilo {
             silo_width_mm: photo.silo_width_mm,
             phi0: photo.phi0,
-            frame_mm: Some(frame_mm),
-            areal_density_kg_m2: None,
-            gravity_m_s2: None,
-            source: Source::Experiment,
+            framing: Framing::Corner(photo.origin_mm),
         };
-        // Table first, sidecar last: the sidecar marks the pair complete.
-        write_deposit_csv(&table, &shifted(&to_deposit(&found), photo.origin_mm, 1.0))?;
-        write_meta_json(&meta_path(&table), &meta)?;
+        let overlay = want_overlay.then_some(overlay_path.as_path());
+        let result = detect_photo(&photo.path, &params, &table, overlay, Some(&in_silo))?;
+        seconds = Some(result.phases.total().as_secs_f64());
+        let check = "the photograph's shape and px_per_mm in the manifest";
+        if let Some(warning) = poorly_explained(&photo.path, result.explained, check) {
+            progress(Event::Warning(&warning));
+        }
     }
     let deposit = read_deposit_csv(&table)?;
     let tally = match &photo.truth {
@@ -155,17 +122,6 @@ fn detect_one(
         seconds,
         grains: deposit.grains.len(),
     })
-}
-
-/// The deposit moved by `sign` x the photograph's origin (mm): +1 from frame to silo
-/// coordinates, -1 back.
-fn shifted(deposit: &Deposit, origin_mm: [f64; 2], sign: f64) -> Deposit {
-    let mut out = deposit.clone();
-    for g in &mut out.grains {
-        g.x += sign * origin_mm[0] * 1e-3;
-        g.y += sign * origin_mm[1] * 1e-3;
-    }
-    out
 }
 
 /// Matches a detected table (silo coordinates) to a truth table (frame coordinates).
@@ -201,7 +157,7 @@ pub struct Accuracy {
     pub seconds_per_photo: Option<f64>,
 }
 
-pub fn accuracy(detected: &[Detected], kind: GrainKindName, phi0: f64) -> Accuracy {
+pub fn accuracy(detected: &[Detected], kind: GrainKind, phi0: f64) -> Accuracy {
     let mine: Vec<&Detected> = detected
         .iter()
         .filter(|d| d.kind == kind && (d.phi0 - phi0).abs() < 1e-9)

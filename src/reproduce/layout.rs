@@ -11,8 +11,9 @@
 
 use std::path::{Path, PathBuf};
 
-use super::plan::{GrainKindName, phi0_tag};
+use super::plan::phi0_tag;
 use super::simulate::Side;
+use crate::grains::GrainKind;
 
 #[derive(Clone, Debug)]
 pub struct Layout {
@@ -26,11 +27,11 @@ impl Layout {
         }
     }
 
-    pub fn shape_dir(&self, kind: GrainKindName) -> PathBuf {
+    pub fn shape_dir(&self, kind: GrainKind) -> PathBuf {
         self.root.join(kind.name())
     }
 
-    pub fn run_dir(&self, kind: GrainKindName, phi0: f64, side: Side, seed: u64) -> PathBuf {
+    pub fn run_dir(&self, kind: GrainKind, phi0: f64, side: Side, seed: u64) -> PathBuf {
         let side = match side {
             Side::Simulation => "simulation",
             Side::Photographed => "photographed",
@@ -42,18 +43,18 @@ impl Layout {
             .join(format!("seed-{seed}"))
     }
 
-    pub fn photo(&self, kind: GrainKindName, phi0: f64, seed: u64) -> PathBuf {
+    pub fn photo(&self, kind: GrainKind, phi0: f64, seed: u64) -> PathBuf {
         self.shape_dir(kind)
             .join("photos")
             .join(phi0_tag(phi0))
             .join(format!("seed-{seed}.png"))
     }
 
-    pub fn detected_dir(&self, kind: GrainKindName, phi0: f64) -> PathBuf {
+    pub fn detected_dir(&self, kind: GrainKind, phi0: f64) -> PathBuf {
         self.shape_dir(kind).join("detected").join(phi0_tag(phi0))
     }
 
-    pub fn analysis_dir(&self, kind: GrainKindName, experiment: bool) -> PathBuf {
+    pub fn analysis_dir(&self, kind: GrainKind, experiment: bool) -> PathBuf {
         self.shape_dir(kind).join("analysis").join(if experiment {
             "experiment"
         } else {
@@ -61,7 +62,7 @@ impl Layout {
         })
     }
 
-    pub fn figures_dir(&self, kind: GrainKindName) -> PathBuf {
+    pub fn figures_dir(&self, kind: GrainKind) -> PathBuf {
         self.shape_dir(kind).join("figures")
     }
 

@@ -24,7 +24,7 @@ use anyhow::{Context, bail};
 use serde::Deserialize;
 
 use super::photograph::Photo;
-use super::plan::GrainKindName;
+use crate::grains::GrainKind;
 
 const EXPERIMENT_SILO_WIDTH_MM: f64 = 258.0;
 const REGION_E_BOTTOM_MM: f64 = 290.0;
@@ -177,7 +177,7 @@ fn read_toml(dir: &Path, path: &Path) -> anyhow::Result<Vec<Photo>> {
 
 /// Checks one entry's fields, naming the one that is wrong.
 fn check(dir: &Path, e: &Entry) -> anyhow::Result<Photo> {
-    let kind = GrainKindName::parse(&e.shape).with_context(|| {
+    let kind = e.shape.parse::<GrainKind>().ok().with_context(|| {
         format!(
             "field `shape`: `{}` is not a grain shape; expected square, rod53 or rod3",
             e.shape
@@ -206,7 +206,7 @@ fn check(dir: &Path, e: &Entry) -> anyhow::Result<Photo> {
     if !path.is_file() {
         bail!("field `file`: {} does not exist", path.display());
     }
-    let truth = Photo::truth_path(&path);
+    let truth = crate::photo::truth_path(&path);
     Ok(Photo {
         kind,
         phi0: e.phi0,
@@ -244,7 +244,7 @@ mod tests {
             let photos = read_manifest(dir.path()).unwrap();
             assert_eq!(photos.len(), 1);
             let p = &photos[0];
-            assert_eq!(p.kind, GrainKindName::Rod53);
+            assert_eq!(p.kind, GrainKind::ShortRod);
             assert_eq!((p.phi0, p.px_per_mm), (0.25, 8.0));
             assert_eq!(p.origin_mm, [0.0, 290.0]);
             assert_eq!(p.silo_width_mm, 258.0);

@@ -18,6 +18,7 @@ pub mod layout;
 pub mod manifest;
 pub mod photograph;
 pub mod plan;
+pub mod progress;
 pub mod report;
 pub mod shard;
 pub mod simulate;
@@ -26,9 +27,8 @@ pub mod slurm;
 use std::path::Path;
 use std::time::Instant;
 
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
-
 pub use plan::{Plan, ShapePlan};
+pub use progress::{Event, Progress};
 pub use report::Report;
 pub use shard::Shard;
 
@@ -37,24 +37,18 @@ use layout::Layout;
 use report::StageTime;
 use shard::Unit;
 
-/// A bar for one stage (hidden when stderr is not a terminal).
-fn stage_bar(stage: &str) -> ProgressBar {
-    let style = ProgressStyle::with_template(
-        "{prefix:>12} [{bar:40}] {pos}/{len} {msg} ({elapsed} / ETA {eta})",
-    )
-    .unwrap_or_else(|_| ProgressStyle::default_bar())
-    .progress_chars("=> ");
-    let bar = ProgressBar::new(0).with_style(style);
-    bar.set_prefix(stage.to_string());
-    bar
-}
-
 /// Runs the plan into `out`; with `photos`, the photographs listed in `photos/manifest.csv`
-/// (or `.toml`) are the experiment side instead of rendered ones.
-pub fn reproduce(plan: &Plan, photos: Option<&Path>, out: &Path) -> anyhow::Result<Report> {
+/// (or `.toml`) are the experiment side instead of rendered ones. `progress` hears each
+/// stage's advance ([`Event`]).
+pub fn reproduce(
+    plan: &Plan,
+    photos: Option<&Path>,
+    out: &Path,
+    progress: &Progress,
+) -> anyhow::Result<Report> {
     let study = Study::prepare(plan, photos, out)?;
-    let done = study.produce(None)?;
-    study.finish(done)
+    let done = study.produce(None, progress)?;
+    study.finish(done, progress)
 }
 
 /// What one task ([`reproduce_shard`]) did.
@@ -75,9 +69,10 @@ pub fn reproduce_shard(
     photos: Option<&Path>,
     out: &Path,
     shard: Shard,
+    progress: &Progress,
 ) -> anyhow::Result<ShardDone> {
     let study = Study::prepare(plan, photos, out)?;
-    let done = study.produce(Some(shard))?;
+    let done = study.produce(Some(shard), progress)?;
     Ok(ShardDone {
         units: (0..study.units.len()).filter(|&k| shard.takes(k)).collect(),
         of: study.units.len(),
@@ -95,6 +90,7 @@ pub fn collect(
     photos: Option<&Path>,
     out: &Path,
     tasks: Option<usize>,
+    progress: &Progress,
 ) -> anyhow::Result<Report> {
     let study = Study::prepare(plan, photos, out)?;
     let missing = shard::missing(&study.units, &study.layout);
@@ -114,8 +110,8 @@ pub fn collect(
             lines.join("\n")
         );
     }
-    let done = study.produce(None)?;
-    study.finish(done)
+    let done = study.produce(None, progress)?;
+    study.finish(done, progress)
 }
 
 /// A plan, its output folder and its list of units.
@@ -158,7 +154,7 @@ impl<'a> Study<'a> {
 
     /// The stages that make files, in order: simulate, photograph, detect; over every unit,
     /// or over one share of them.
-    fn produce(&self, shard: Option<Shard>) -> anyhow::Result<Produced> {
+    fn produce(&self, shard: Option<Shard>, progress: &Progress) -> anyhow::Result<Produced> {
         let mine = |k: usize| shard.is_none_or(|s| s.takes(k));
         let mut fillings = Vec::new();
         let mut real = Vec::new();
@@ -177,27 +173,17 @@ impl<'a> Study<'a> {
         };
 
         let start = Instant::now();
-        let bars = MultiProgress::new();
-        let bar = bars.add(stage_bar("simulate"));
-        bar.set_message("fillings");
-        let filled = simulate::simulate(&fillings, &bars, &bar)?;
-        bar.finish();
+        let filled = simulate::simulate(&fillings, progress)?;
         timed("simulate", start);
 
         let start = Instant::now();
-        let bar = stage_bar("photograph");
-        bar.set_message("photographs");
-        let mut photos = photograph::photograph(self.plan, &self.layout, &filled, &bar)?;
+        let mut photos = photograph::photograph(self.plan, &self.layout, &filled, progress)?;
         photos.extend(real);
-        bar.finish();
         timed("photograph", start);
 
         let start = Instant::now();
-        let bar = stage_bar("detect");
-        bar.set_message("photographs");
         let overlays = shard::overlay_photos(&self.units, &self.layout);
-        let detected = detect::detect_all(&photos, &self.layout, &overlays, &bar)?;
-        bar.finish();
+        let detected = detect::detect_all(&photos, &self.layout, &overlays, progress)?;
         timed("detect", start);
         Ok(Produced {
             filled,
@@ -207,16 +193,14 @@ impl<'a> Study<'a> {
     }
 
     /// The stages that read every unit's files: analyse, then the report.
-    fn finish(&self, done: Produced) -> anyhow::Result<Report> {
+    fn finish(&self, done: Produced, progress: &Progress) -> anyhow::Result<Report> {
         let Produced {
             filled,
             detected,
             mut stages,
         } = done;
         let start = Instant::now();
-        let bar = stage_bar("analyse");
-        let analyses = analyse::analyse_all(self.plan, &self.layout, &filled, &detected, &bar)?;
-        bar.finish();
+        let analyses = analyse::analyse_all(self.plan, &self.layout, &filled, &detected, progress)?;
         stages.push(StageTime {
             stage: "analyse".into(),
             seconds: start.elapsed().as_secs_f64(),

@@ -6,23 +6,21 @@
 use std::path::PathBuf;
 
 use anyhow::Context;
-use image::ImageFormat;
-use indicatif::ProgressBar;
 use rayon::prelude::*;
-use vision::Frame;
-use vision::render::{Style, render};
+use vision::render::Style;
 
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan};
+use super::plan::Plan;
+use super::progress::{Event, Progress};
 use super::simulate::{Filled, Side};
-use crate::deposit::{read_deposit_csv, write_deposit_csv};
-use crate::io::write_atomic;
-use crate::photo::{Region, frame_deposit};
+use crate::deposit::read_deposit_csv;
+use crate::grains::GrainKind;
+use crate::photo::{Region, frame_deposit, photograph_frame, write_photograph};
 
 /// A photograph of the experiment side, rendered or real.
 #[derive(Clone, Debug)]
 pub struct Photo {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub path: PathBuf,
     pub px_per_mm: f64,
@@ -36,18 +34,12 @@ pub struct Photo {
     pub seed: u64,
 }
 
-impl Photo {
-    pub fn truth_path(path: &std::path::Path) -> PathBuf {
-        path.with_extension("truth.csv")
-    }
-}
-
 /// Renders a photograph of every photographed filling.
 pub fn photograph(
     plan: &Plan,
     layout: &Layout,
     filled: &[Filled],
-    bar: &ProgressBar,
+    progress: &Progress,
 ) -> anyhow::Result<Vec<Photo>> {
     let style = Style::named(&plan.photo_style)
         .with_context(|| format!("unknown photo style {:?}", plan.photo_style))?;
@@ -55,15 +47,20 @@ pub fn photograph(
         .iter()
         .filter(|f| f.filling.side == Side::Photographed)
         .collect();
-    bar.set_length(todo.len() as u64);
+    progress(Event::Stage {
+        stage: "photograph",
+        counts: "photographs",
+        total: todo.len(),
+    });
     let photos: Vec<anyhow::Result<Photo>> = todo
         .par_iter()
         .map(|f| {
             let result = photograph_one(plan, layout, f, &style);
-            bar.inc(1);
+            progress(Event::Done);
             result
         })
         .collect();
+    progress(Event::StageEnd);
     photos.into_iter().collect()
 }
 
@@ -82,7 +79,7 @@ fn photograph_one(
     })?;
     let silo_width_mm = f.scene.silo.width_mm;
     let path = layout.photo(f.kind, f.phi0, f.seed);
-    let truth = Photo::truth_path(&path);
+    let truth = crate::photo::truth_path(&path);
     let photo = Photo {
         kind: f.kind,
         phi0: f.phi0,
@@ -96,28 +93,13 @@ fn photograph_one(
     if path.exists() && truth.exists() {
         return Ok(photo);
     }
-    let region = Region {
-        x0: frame_mm.x_min * 1e-3,
-        y0: frame_mm.y_min * 1e-3,
-        width: (frame_mm.x_max - frame_mm.x_min) * 1e-3,
-        height: (frame_mm.y_max - frame_mm.y_min) * 1e-3,
-    };
-    let frame = Frame {
-        width: region.width,
-        height: region.height,
-        scale: plan.photo_px_per_mm * 1e3,
-    };
+    let region = Region::of_frame(&frame_mm);
+    let frame = photograph_frame(&region, plan.photo_px_per_mm)?;
     let deposit = read_deposit_csv(&f.deposit())?;
     let (outlines, truth_table) = frame_deposit(&deposit, &region, &frame);
-    let image = render(&outlines, &frame, style, f.seed).to_image(8);
     if let Some(dir) = path.parent() {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
-    // Truth first: a photograph on disk always has its truth beside it.
-    write_deposit_csv(&truth, &truth_table)?;
-    write_atomic(&path, |w| {
-        image.write_to(w, ImageFormat::Png)?;
-        Ok(())
-    })?;
+    write_photograph(&path, &outlines, &truth_table, &frame, style, f.seed, 8)?;
     Ok(photo)
 }

@@ -15,47 +15,13 @@ pub const PHOTO_SEED_OFFSET: u64 = 1_000_000;
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ShapePlan {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     /// Grains poured per filling.
     pub grains: usize,
     /// Feed fractions of the rain.
     pub phi0s: Vec<f64>,
     /// Coarse-graining width of the pressure profile, in grain widths D.
     pub w_over_d: f64,
-}
-
-/// A grain kind by its command-line name (square, rod53, rod3).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum GrainKindName {
-    Square,
-    Rod53,
-    Rod3,
-}
-
-impl From<GrainKindName> for GrainKind {
-    fn from(k: GrainKindName) -> Self {
-        match k {
-            GrainKindName::Square => GrainKind::Square,
-            GrainKindName::Rod53 => GrainKind::ShortRod,
-            GrainKindName::Rod3 => GrainKind::LongRod,
-        }
-    }
-}
-
-impl GrainKindName {
-    pub fn name(self) -> &'static str {
-        GrainKind::from(self).name()
-    }
-
-    pub fn parse(text: &str) -> Option<Self> {
-        match text.trim().to_ascii_lowercase().as_str() {
-            "square" | "squares" => Some(Self::Square),
-            "rod53" | "rod5/3" | "short-rod" => Some(Self::Rod53),
-            "rod3" | "long-rod" => Some(Self::Rod3),
-            _ => None,
-        }
-    }
 }
 
 /// Everything a reproduction run needs to know.
@@ -97,9 +63,9 @@ impl Plan {
             name: "quick".into(),
             silo_width_mm: 160.0,
             shapes: vec![
-                shape(GrainKindName::Square, 240, &[0.05, 0.25], 2.0),
-                shape(GrainKindName::Rod53, 300, &[0.05, 0.25], 2.0),
-                shape(GrainKindName::Rod3, 200, &[0.05, 0.25], 2.0),
+                shape(GrainKind::Square, 240, &[0.05, 0.25], 2.0),
+                shape(GrainKind::ShortRod, 300, &[0.05, 0.25], 2.0),
+                shape(GrainKind::LongRod, 200, &[0.05, 0.25], 2.0),
             ],
             simulation_realisations: 6,
             photo_realisations: 3,
@@ -121,9 +87,9 @@ impl Plan {
             name: "paper".into(),
             silo_width_mm: 256.0,
             shapes: vec![
-                shape(GrainKindName::Square, 3000, &squares, 4.0),
-                shape(GrainKindName::Rod53, 9000, &rods, 3.0),
-                shape(GrainKindName::Rod3, 5000, &rods, 3.0),
+                shape(GrainKind::Square, 3000, &squares, 4.0),
+                shape(GrainKind::ShortRod, 9000, &rods, 3.0),
+                shape(GrainKind::LongRod, 5000, &rods, 3.0),
             ],
             simulation_realisations: 8,
             photo_realisations: 8,
@@ -145,8 +111,8 @@ impl Plan {
             name: "tiny".into(),
             silo_width_mm: 120.0,
             shapes: vec![
-                shape(GrainKindName::Square, 80, &[0.1], 1.0),
-                shape(GrainKindName::Rod3, 80, &[0.1], 1.0),
+                shape(GrainKind::Square, 80, &[0.1], 1.0),
+                shape(GrainKind::LongRod, 80, &[0.1], 1.0),
             ],
             simulation_realisations: 2,
             photo_realisations: 1,
@@ -256,7 +222,7 @@ impl Plan {
     }
 }
 
-fn shape(kind: GrainKindName, grains: usize, phi0s: &[f64], w_over_d: f64) -> ShapePlan {
+fn shape(kind: GrainKind, grains: usize, phi0s: &[f64], w_over_d: f64) -> ShapePlan {
     ShapePlan {
         kind,
         grains,

@@ -9,11 +9,12 @@ use serde::Serialize;
 use super::analyse::ShapeAnalysis;
 use super::detect::{Detected, accuracy};
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan, phi0_tag};
+use super::plan::{Plan, phi0_tag};
 use super::simulate::Filled;
 use crate::analysis::pressure::janssen_saturates;
 use crate::analysis::stats::MeanErr;
 use crate::analysis::summary::{EnsembleSummary, Summary};
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 
 /// One side's numbers at one (shape, phi0).
@@ -64,7 +65,7 @@ pub struct Row {
 
 #[derive(Clone, Debug, Serialize)]
 pub struct ShapeReport {
-    pub shape: GrainKindName,
+    pub shape: GrainKind,
     pub rows: Vec<Row>,
     /// Figures (PNG) and photographs, relative to the output folder.
     pub figures: Vec<String>,

@@ -96,7 +96,7 @@ impl Unit {
         };
         let photo = self.photo_path(layout)?;
         if let Unit::Filling(_) = self {
-            let truth = Photo::truth_path(&photo);
+            let truth = crate::photo::truth_path(&photo);
             for path in [&truth, &photo] {
                 if !path.exists() {
                     return Some(format!("no {}", path.display()));

@@ -5,14 +5,14 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::Context;
-use indicatif::{MultiProgress, ProgressBar, ProgressStyle};
-use rayon::prelude::*;
 use serde::Deserialize;
 
 use super::layout::Layout;
-use super::plan::{GrainKindName, Plan};
+use super::plan::Plan;
+use super::progress::{Event, Progress};
 use crate::deposit::FrameMm;
-use crate::fill::{FillProgress, RunRecord, fill};
+use crate::fill::{FillEvent, FillJob, FillOutcome, RunRecord, fill_all};
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 use crate::scene::Scene;
 
@@ -26,7 +26,7 @@ pub enum Side {
 /// One filling to run (or found done).
 #[derive(Clone, Debug)]
 pub struct Filling {
-    pub kind: GrainKindName,
+    pub kind: GrainKind,
     pub phi0: f64,
     pub seed: u64,
     pub side: Side,
@@ -39,6 +39,11 @@ pub struct Filling {
 impl Filling {
     pub fn deposit(&self) -> PathBuf {
         self.dir.join("deposit.csv")
+    }
+
+    /// How progress and errors call it.
+    pub fn name(&self) -> String {
+        format!("{} phi0 {} seed {}", self.kind.name(), self.phi0, self.seed)
     }
 }
 
@@ -114,67 +119,76 @@ pub fn done(filling: &Filling) -> Option<RunSummary> {
     complete.then_some(record)
 }
 
-/// Runs every filling not yet done, in parallel (each run is deterministic given its scene
-/// and seed, so the order and the thread count do not change any file). `bar` counts
-/// fillings; each running filling shows its own bar of simulated time under it.
-pub fn simulate(
-    fillings: &[Filling],
-    bars: &MultiProgress,
-    bar: &ProgressBar,
-) -> anyhow::Result<Vec<Filled>> {
-    bar.set_length(fillings.len() as u64);
-    let style = ProgressStyle::with_template(
-        "{prefix:>30} [{bar:30}] {pos}/{len} ms simulated, {msg} ({elapsed} / ETA {eta})",
-    )
-    .unwrap_or_else(|_| ProgressStyle::default_bar())
-    .progress_chars("=> ");
-    let results: Vec<anyhow::Result<Filled>> = fillings
-        .par_iter()
-        .map(|f| {
-            let own = bars.add(ProgressBar::new(1).with_style(style.clone()));
-            own.set_prefix(format!("{} phi0 {} seed {}", f.kind.name(), f.phi0, f.seed));
-            let result = run_one(f, &own);
-            own.finish_and_clear();
-            bars.remove(&own);
-            bar.inc(1);
-            result
+/// Runs every filling not yet done, in parallel ([`fill_all`]; each run is deterministic
+/// given its scene and seed, so the order and the thread count do not change any file).
+/// Reports one stage item per filling and each running filling's events.
+pub fn simulate(fillings: &[Filling], progress: &Progress) -> anyhow::Result<Vec<Filled>> {
+    progress(Event::Stage {
+        stage: "simulate",
+        counts: "fillings",
+        total: fillings.len(),
+    });
+    let mut found: Vec<Option<RunSummary>> = Vec::with_capacity(fillings.len());
+    let mut todo = Vec::new();
+    for (k, f) in fillings.iter().enumerate() {
+        let record = done(f);
+        if record.is_some() {
+            progress(Event::Done);
+        } else {
+            write_scene(&f.dir, &f.scene_toml)?;
+            todo.push(k);
+        }
+        found.push(record);
+    }
+    let jobs: Vec<FillJob> = todo
+        .iter()
+        .map(|&k| {
+            let f = &fillings[k];
+            FillJob {
+                label: format!(
+                    "filling {} phi0 = {} seed {} ({})",
+                    f.kind.name(),
+                    f.phi0,
+                    f.seed,
+                    f.dir.display()
+                ),
+                scene: &f.scene,
+                seed: f.seed,
+                dir: f.dir.clone(),
+                resume: None,
+            }
         })
         .collect();
-    results.into_iter().collect()
-}
-
-fn run_one(f: &Filling, bar: &ProgressBar) -> anyhow::Result<Filled> {
-    if let Some(record) = done(f) {
-        return Ok(Filled {
+    let names: Vec<String> = todo.iter().map(|&k| fillings[k].name()).collect();
+    let outcomes = fill_all(&jobs, None, &|j, event| {
+        progress(Event::Filling(&names[j], event));
+        if matches!(event, FillEvent::Finished { .. } | FillEvent::Stopped) {
+            progress(Event::Done);
+        }
+    });
+    let mut ran = outcomes.into_iter();
+    let mut filled = Vec::with_capacity(fillings.len());
+    for (f, record) in fillings.iter().zip(found) {
+        let (record, reused) = match record {
+            Some(record) => (record, true),
+            None => match ran
+                .next()
+                .context("a filling neither found done nor run")??
+            {
+                FillOutcome::Finished(record) => (RunSummary::from(&*record), false),
+                FillOutcome::Stopped { .. } => {
+                    anyhow::bail!("filling {} stopped before its end", f.name())
+                }
+            },
+        };
+        filled.push(Filled {
             filling: f.clone(),
             record,
-            reused: true,
+            reused,
         });
     }
-    write_scene(&f.dir, &f.scene_toml)?;
-    let mut update = |p: FillProgress| {
-        bar.set_length((p.expected_end.max(p.time) * 1e3) as u64);
-        bar.set_position((p.time * 1e3) as u64);
-        bar.set_message(if p.relaxing {
-            format!("relaxing, kinetic/elastic {:.1e}", p.energy_ratio)
-        } else {
-            format!("{}/{} grains in", p.inserted, p.total)
-        });
-    };
-    let record = fill(&f.scene, f.seed, &f.dir, &mut update).with_context(|| {
-        format!(
-            "filling {} phi0 = {} seed {} ({})",
-            f.kind.name(),
-            f.phi0,
-            f.seed,
-            f.dir.display()
-        )
-    })?;
-    Ok(Filled {
-        filling: f.clone(),
-        record: RunSummary::from(&record),
-        reused: false,
-    })
+    progress(Event::StageEnd);
+    Ok(filled)
 }
 
 /// `scene.toml` beside the run: `facets sim scene.toml --seed N` runs it again.

@@ -3,11 +3,12 @@
 //! unknown fields are an error (docs/model.md §4). Errors name the file, the line and the field.
 
 mod load;
+mod time_step;
 mod types;
 mod validate;
 
 pub use load::{load_scene, parse_scene};
 pub use types::{
     ContactSection, FeedSection, FrameChoice, GrainSection, Insertion, ModelSection, OutputSection,
-    PlateLaw, PlatesSection, RunSection, Scene, SceneGrainKind, SiloSection, WallKind,
+    PlateLaw, PlatesSection, RunSection, Scene, SiloSection, WallKind,
 };

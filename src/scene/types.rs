@@ -70,33 +70,12 @@ pub enum WallKind {
     Rough,
 }
 
-/// Grain kinds as written in scenes (the names of the command line).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub enum SceneGrainKind {
-    #[serde(rename = "square", alias = "squares")]
-    Square,
-    #[serde(rename = "rod53", alias = "short-rod")]
-    ShortRod,
-    #[serde(rename = "rod3", alias = "long-rod")]
-    LongRod,
-}
-
-impl From<SceneGrainKind> for GrainKind {
-    fn from(k: SceneGrainKind) -> Self {
-        match k {
-            SceneGrainKind::Square => GrainKind::Square,
-            SceneGrainKind::ShortRod => GrainKind::ShortRod,
-            SceneGrainKind::LongRod => GrainKind::LongRod,
-        }
-    }
-}
-
 /// `[grains]`: one kind of grain, with optional overrides of the kind's outline and density.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct GrainSection {
     /// "square" (6.9 x 6.9 mm nut), "rod53" (4.9 x 3 mm) or "rod3" (8.9 x 3 mm).
-    pub kind: SceneGrainKind,
+    pub kind: GrainKind,
     /// Number of grains poured.
     pub count: usize,
     /// Outline length L, the long side (mm). Default: the kind's.
@@ -115,7 +94,7 @@ pub struct GrainSection {
 
 impl GrainSection {
     pub fn grain_kind(&self) -> GrainKind {
-        self.kind.into()
+        self.kind
     }
 
     /// Length L (m).

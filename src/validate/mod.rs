@@ -26,10 +26,10 @@ use anyhow::Context;
 use rayon::prelude::*;
 
 use crate::deposit::Shape;
-use crate::scene::SceneGrainKind;
+use crate::fill::FillEvent;
 use findings::Verdict;
 use results::Measured;
-use run::{Job, RunEvent, RunSummary};
+use run::{Job, RunSummary};
 use study::Study;
 
 /// What the command was asked.
@@ -48,7 +48,7 @@ pub struct Options {
 /// Progress of the stages.
 #[derive(Clone, Copy, Debug)]
 pub enum Progress<'a> {
-    Run(&'a Job, RunEvent),
+    Run(&'a Job, FillEvent),
     /// Realisations measured so far, of the total.
     Measured {
         done: usize,
@@ -167,11 +167,7 @@ fn measure_one(study: &Study, job: &Job) -> anyhow::Result<Measured> {
     Ok(Measured {
         case: job.case,
         seed: job.seed,
-        shape: match case.scene.grains.kind {
-            SceneGrainKind::Square => Shape::Square,
-            SceneGrainKind::ShortRod => Shape::ShortRod,
-            SceneGrainKind::LongRod => Shape::LongRod,
-        },
+        shape: Shape::from(case.scene.grains.kind),
         phi0: case.scene.feed.phi0,
         relaxed: run["relaxed"].as_bool().unwrap_or(false),
         grains: run["grains"].as_u64().unwrap_or(0) as usize,

@@ -12,10 +12,9 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 
 use anyhow::Context;
-use rayon::prelude::*;
 
 use super::study::{Case, Study};
-use crate::fill::{CHECKPOINT_FILE, Checkpoint, FillControl, FillOutcome, FillProgress, fill_with};
+use crate::fill::{CHECKPOINT_FILE, FillEvent, FillJob, FillOutcome, fill_all};
 use crate::io::write_atomic;
 
 /// One realisation: a seed of a case and its folder.
@@ -26,23 +25,6 @@ pub struct Job {
     pub case_name: String,
     pub seed: u64,
     pub dir: PathBuf,
-}
-
-/// What happens to a realisation, for a progress display.
-#[derive(Clone, Copy, Debug)]
-pub enum RunEvent {
-    /// Found done; not run again.
-    Reused,
-    /// Filling starts (`resumed`: from a checkpoint).
-    Started {
-        resumed: bool,
-    },
-    Filling(FillProgress),
-    Finished {
-        relaxed: bool,
-    },
-    /// Stopped by the interrupt; a checkpoint continues it.
-    Stopped,
 }
 
 /// What the stage did.
@@ -78,34 +60,54 @@ pub fn is_done(dir: &Path) -> bool {
     dir.join("deposit.csv").is_file() && dir.join("run.json").is_file()
 }
 
-/// Runs the jobs not done yet, in parallel; each run is deterministic given its scene and
-/// seed, so neither the order nor the thread count changes a file. `interrupt` (set by
-/// Ctrl-C) stops the runs at their next step boundary with a checkpoint each.
+/// Runs the jobs not done yet, in parallel ([`fill_all`]); a seed folder holding a checkpoint
+/// continues it. `interrupt` (set by Ctrl-C) stops the runs at their next step boundary with
+/// a checkpoint each.
 pub fn run_missing(
     study: &Study,
     jobs: &[Job],
     interrupt: Option<&AtomicBool>,
-    progress: &(dyn Fn(&Job, RunEvent) + Sync),
+    progress: &(dyn Fn(&Job, FillEvent) + Sync),
 ) -> anyhow::Result<RunSummary> {
     // Refuse folders of another scene before anything is simulated.
     for job in jobs {
         check_scene(&study.cases[job.case], job)?;
     }
-    let outcomes: Vec<anyhow::Result<Option<FillOutcome>>> = jobs
-        .par_iter()
-        .map(|job| run_one(&study.cases[job.case], job, interrupt, progress))
-        .collect();
     let mut summary = RunSummary::default();
-    for (job, outcome) in jobs.iter().zip(outcomes) {
+    let mut todo = Vec::new();
+    let mut fills = Vec::new();
+    for job in jobs {
+        if is_done(&job.dir) {
+            progress(job, FillEvent::Reused);
+            summary.reused += 1;
+            continue;
+        }
+        let case = &study.cases[job.case];
+        std::fs::create_dir_all(&job.dir)
+            .with_context(|| format!("cannot create {}", job.dir.display()))?;
+        write_atomic(&job.dir.join("scene.toml"), |w| {
+            Ok(w.write_all(case.scene_toml.as_bytes())?)
+        })?;
+        let checkpoint = job.dir.join(CHECKPOINT_FILE);
+        fills.push(FillJob {
+            label: format!("case `{}` seed {}", case.name, job.seed),
+            scene: &case.scene,
+            seed: job.seed,
+            dir: job.dir.clone(),
+            resume: checkpoint.is_file().then_some(checkpoint),
+        });
+        todo.push(job);
+    }
+    let outcomes = fill_all(&fills, interrupt, &|k, event| progress(todo[k], event));
+    for (job, outcome) in todo.iter().zip(outcomes) {
         match outcome? {
-            None => summary.reused += 1,
-            Some(FillOutcome::Finished(record)) => {
+            FillOutcome::Finished(record) => {
                 summary.ran += 1;
                 if !record.relaxed {
                     summary.unrelaxed.push((job.case_name.clone(), job.seed));
                 }
             }
-            Some(FillOutcome::Stopped { checkpoint, .. }) => summary.stopped.push(checkpoint),
+            FillOutcome::Stopped { checkpoint, .. } => summary.stopped.push(checkpoint),
         }
     }
     Ok(summary)
@@ -123,54 +125,4 @@ pub fn check_scene(case: &Case, job: &Job) -> anyhow::Result<()> {
         ),
         _ => Ok(()),
     }
-}
-
-fn run_one(
-    case: &Case,
-    job: &Job,
-    interrupt: Option<&AtomicBool>,
-    progress: &(dyn Fn(&Job, RunEvent) + Sync),
-) -> anyhow::Result<Option<FillOutcome>> {
-    if is_done(&job.dir) {
-        progress(job, RunEvent::Reused);
-        return Ok(None);
-    }
-    std::fs::create_dir_all(&job.dir)
-        .with_context(|| format!("cannot create {}", job.dir.display()))?;
-    write_atomic(&job.dir.join("scene.toml"), |w| {
-        Ok(w.write_all(case.scene_toml.as_bytes())?)
-    })?;
-    let checkpoint_path = job.dir.join(CHECKPOINT_FILE);
-    let resume = if checkpoint_path.is_file() {
-        let checkpoint = Checkpoint::read(&checkpoint_path)?;
-        checkpoint
-            .check_matches(&case.scene, job.seed)
-            .with_context(|| format!("cannot resume {}", checkpoint_path.display()))?;
-        Some(checkpoint)
-    } else {
-        None
-    };
-    progress(
-        job,
-        RunEvent::Started {
-            resumed: resume.is_some(),
-        },
-    );
-    let control = FillControl {
-        resume,
-        interrupt,
-        ..FillControl::default()
-    };
-    let outcome = fill_with(&case.scene, job.seed, &job.dir, control, &mut |p| {
-        progress(job, RunEvent::Filling(p))
-    })
-    .with_context(|| format!("case `{}` seed {}", case.name, job.seed))?;
-    progress(
-        job,
-        match &outcome {
-            FillOutcome::Finished(r) => RunEvent::Finished { relaxed: r.relaxed },
-            FillOutcome::Stopped { .. } => RunEvent::Stopped,
-        },
-    );
-    Ok(Some(outcome))
 }

@@ -347,7 +347,7 @@ friction = 0.6
         let s = default_study().unwrap();
         assert_eq!(s.cases.len(), 7);
         for c in &s.cases {
-            let squares = c.scene.grains.kind == crate::scene::SceneGrainKind::Square;
+            let squares = c.scene.grains.kind == crate::grains::GrainKind::Square;
             assert!(c.seeds.len() >= if squares { 6 } else { 3 }, "{}", c.name);
             assert!(!c.is_variant());
         }

@@ -52,7 +52,7 @@ use anyhow::Context;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::engine::cpu_time;
+use super::process::cpu_time;
 use crate::deposit::{Ensemble, LoadOptions, load_realisation};
 use crate::fill::{RunRecord, check_writable, fill};
 use crate::io::write_atomic;
@@ -205,6 +205,16 @@ pub fn run_bench(
         config.grains >= 1,
         "--grains {}: a filling needs at least one grain",
         config.grains
+    );
+    anyhow::ensure!(
+        config.max_relaxation_time_s.is_finite() && config.max_relaxation_time_s > 0.0,
+        "--max-relaxation-s {}: expected a positive time (s)",
+        config.max_relaxation_time_s
+    );
+    anyhow::ensure!(
+        config.measure.rdf_margin_d.is_finite() && config.measure.rdf_margin_d >= 0.0,
+        "--rdf-margin {}: expected a number of grain widths >= 0",
+        config.measure.rdf_margin_d
     );
     let mut settings: Vec<&'static Setting> = Vec::new();
     if !config.settings.iter().any(|s| s.name == REFERENCE) {

@@ -1,15 +1,10 @@
-use std::io::Write;
-use std::path::{Path, PathBuf};
-
-use anyhow::Context;
+use std::cell::RefCell;
+use std::path::PathBuf;
 
 use clap::Args as ClapArgs;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use facets::bench::engine::{self, DepositSpec};
-use facets::grains::GrainKind;
-use facets::io::write_atomic;
-use sim::World;
+use facets::bench::engine::{self, EngineBench, EngineEvent, Layout};
 
 /// Engine throughput on settled dense deposits in a 256 mm box: grain-steps per second on
 /// 1 and 2 threads, memory per grain. The default cases are the issue's: 3 000 rounded squares
@@ -53,187 +48,91 @@ pub struct Args {
     csv: Option<PathBuf>,
 }
 
-/// Longest settling of a deposit built from the grid (s); most reach kinetic / elastic < 1e-4
-/// well before.
-const SETTLE_MAX_S: f64 = 1.5;
-
-/// The world saved under `key` in `cache` by this version of facets, or `build`'s, saved there.
-fn cached(
-    cache: Option<&Path>,
-    key: &str,
-    build: impl FnOnce() -> anyhow::Result<World>,
-) -> anyhow::Result<World> {
-    let Some(dir) = cache else {
-        return build();
-    };
-    let path = dir.join(format!("{key}-facets-{}.bin", env!("CARGO_PKG_VERSION")));
-    if path.exists() {
-        let bytes =
-            std::fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-        eprintln!("{key}: settled deposit read from {}", path.display());
-        return postcard::from_bytes(&bytes).with_context(|| {
-            format!(
-                "{}: not a settled world of this build of facets (delete it)",
-                path.display()
-            )
-        });
-    }
-    let world = build()?;
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    write_atomic(&path, |w| {
-        w.write_all(&postcard::to_stdvec(&world)?)?;
-        Ok(())
-    })?;
-    Ok(world)
-}
-
-/// How the 30 000-square case is built from ten settled 3 000-square deposits.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-enum Layout {
-    Wide,
-    Stacked,
-}
-
-fn parse_case(text: &str) -> anyhow::Result<(GrainKind, usize)> {
-    let (kind, count) = text
-        .split_once(':')
-        .ok_or_else(|| anyhow::anyhow!("case `{text}`: expected KIND:COUNT, e.g. square:3000"))?;
-    let kind = kind
-        .parse()
-        .map_err(|e: String| anyhow::anyhow!("case `{text}`: {e}"))?;
-    let count = count
-        .parse()
-        .map_err(|_| anyhow::anyhow!("case `{text}`: `{count}` is not a grain count"))?;
-    Ok((kind, count))
-}
-
 pub fn run(args: Args) -> anyhow::Result<()> {
-    let mut cases = args
-        .cases
-        .iter()
-        .map(|c| parse_case(c))
-        .collect::<anyhow::Result<Vec<_>>>()?;
-    if !args.scaling.is_empty() && !cases.contains(&(GrainKind::Square, 3000)) {
-        cases.push((GrainKind::Square, 3000));
-    }
-    let mut rows = Vec::new();
+    let bench = EngineBench {
+        cases: args
+            .cases
+            .iter()
+            .map(|c| engine::parse_case(c))
+            .collect::<anyhow::Result<Vec<_>>>()?,
+        scaling: args.scaling,
+        settled_cache: args.settled_cache,
+        steps: args.steps,
+        time_step: args.dt,
+        settle_time_step: args.settle_dt,
+        threads: args.threads,
+        seed: args.seed,
+    };
     println!(
         "| grains | N | threads | steps | wall s | grain-steps/s | CPU s | grain-steps per CPU s | sub-contacts | Verlet pairs | world bytes/grain |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
-    for (kind, n) in cases {
-        let spec = DepositSpec {
-            kind,
-            grains: n,
-            seed: args.seed,
-            width: engine::BOX_WIDTH,
-        };
-        let bar = ProgressBar::new_spinner().with_style(
-            ProgressStyle::with_template("{spinner} settling {msg} [{elapsed}]").unwrap(),
-        );
-        // Settles by the scene rule (quenched if still moving), or reads what an earlier run
-        // with the same key saved.
-        let settled = |label: &str,
-                       grains: usize,
-                       max_time: f64,
-                       build: &dyn Fn() -> anyhow::Result<World>| {
-            let key = format!(
-                "{label}-{grains}-seed{}-dt{:e}-{max_time}s",
-                args.seed, args.settle_dt
-            )
-            .replace(' ', "-");
-            let mut world = cached(args.settled_cache.as_deref(), &key, || {
-                let mut world = build()?;
-                let ratio = engine::settle(&mut world, max_time, |t| {
-                    bar.set_message(format!("{label}: t = {t:.3} s"));
-                    bar.tick();
-                })?;
-                eprintln!("{grains} {label}: settled to kinetic / elastic = {ratio:.1e}");
-                Ok(world)
-            })?;
-            if engine::kinetic_over_elastic(&world) >= 1e-4 {
-                bar.set_message(format!("{label}: quench"));
-                let ratio = engine::quench(&mut world)?;
-                eprintln!("{grains} {label}: quenched to kinetic / elastic = {ratio:.1e}");
-            }
-            Ok::<_, anyhow::Error>(world)
-        };
-        let base = settled(&kind.to_string(), n, SETTLE_MAX_S, &|| {
-            engine::grid_scene(&spec, args.settle_dt)
-        })?;
-        let mut worlds = vec![(base, kind.to_string())];
-        if kind == GrainKind::Square && n == 3000 {
-            for &layout in &args.scaling {
-                let label = format!("{kind} {layout:?}").to_lowercase();
-                let big = match layout {
-                    Layout::Wide => settled(&label, 10 * n, SETTLE_MAX_S, &|| {
-                        engine::grid_scene(
-                            &DepositSpec {
-                                grains: 10 * n,
-                                width: 10.0 * engine::BOX_WIDTH,
-                                ..spec
-                            },
-                            args.settle_dt,
-                        )
-                    })?,
-                    // Stacked touching: a gap would let each copy fall free and open its
-                    // contacts. The column takes up ten times the weight and keeps compacting
-                    // for seconds; 0.3 s is the rule the LAMMPS peer shares (benches/peers/).
-                    Layout::Stacked => settled(&label, 10 * n, 0.3, &|| {
-                        engine::stacked(&worlds[0].0, 10, 0.0)
-                    })?,
-                };
-                worlds.push((big, label));
-            }
+    // A spinner while a case settles, gone once its rows are timed.
+    let spinner: RefCell<Option<ProgressBar>> = RefCell::new(None);
+    let spin = || {
+        spinner
+            .borrow_mut()
+            .get_or_insert_with(|| {
+                ProgressBar::new_spinner().with_style(
+                    ProgressStyle::with_template("{spinner} settling {msg} [{elapsed}]")
+                        .unwrap_or_else(|_| ProgressStyle::default_spinner()),
+                )
+            })
+            .clone()
+    };
+    let stop = || {
+        if let Some(bar) = spinner.borrow_mut().take() {
+            bar.finish_and_clear();
         }
-        bar.finish_and_clear();
-        for (world, label) in &worlds {
-            let n = world.len();
-            let bytes_per_grain = world.memory_bytes() as f64 / n as f64;
-            for &threads in &args.threads {
-                let t = engine::measure(world, args.dt, args.steps, threads)?;
-                println!(
-                    "| {label} | {n} | {threads} | {} | {:.2} | {:.3e} | {:.2} | {:.3e} | {} | {} | {:.0} |",
-                    t.steps,
-                    t.seconds,
-                    t.grain_steps_per_second,
-                    t.cpu_seconds,
-                    (n as f64 * t.steps as f64) / t.cpu_seconds,
-                    t.contacts,
-                    t.pairs,
-                    bytes_per_grain
-                );
-                rows.push((label.clone(), n, t, bytes_per_grain));
-            }
+    };
+    let rows = engine::run(&bench, &|event| match event {
+        EngineEvent::Settling { label, time } => {
+            let bar = spin();
+            bar.set_message(format!("{label}: t = {time:.3} s"));
+            bar.tick();
         }
-    }
-    if let Some(peak) = engine::peak_memory() {
+        EngineEvent::Read { label, path } => {
+            spin().suspend(|| eprintln!("{label}: settled deposit read from {}", path.display()))
+        }
+        EngineEvent::Settled {
+            label,
+            grains,
+            ratio,
+            quenched,
+        } => {
+            let how = if quenched { "quenched" } else { "settled" };
+            spin().suspend(|| {
+                eprintln!("{grains} {label}: {how} to kinetic / elastic = {ratio:.1e}")
+            });
+        }
+        EngineEvent::Row(r) => {
+            stop();
+            let t = &r.throughput;
+            println!(
+                "| {} | {} | {} | {} | {:.2} | {:.3e} | {:.2} | {:.3e} | {} | {} | {:.0} |",
+                r.label,
+                r.grains,
+                t.threads,
+                t.steps,
+                t.seconds,
+                t.grain_steps_per_second,
+                t.cpu_seconds,
+                (r.grains as f64 * t.steps as f64) / t.cpu_seconds,
+                t.contacts,
+                t.pairs,
+                r.world_bytes_per_grain
+            );
+        }
+    })?;
+    stop();
+    if let Some(peak) = facets::bench::process::peak_memory() {
         println!(
             "peak resident memory of this run: {:.0} MB",
             peak as f64 / 1e6
         );
     }
     if let Some(path) = &args.csv {
-        write_atomic(path, |w| {
-            writeln!(
-                w,
-                "grains,n,threads,steps,wall_s,grain_steps_per_s,cpu_s,sub_contacts,world_bytes_per_grain"
-            )?;
-            for (label, n, t, b) in &rows {
-                writeln!(
-                    w,
-                    "{label},{n},{},{},{:.4},{:.1},{:.4},{},{:.0}",
-                    t.threads,
-                    t.steps,
-                    t.seconds,
-                    t.grain_steps_per_second,
-                    t.cpu_seconds,
-                    t.contacts,
-                    b
-                )?;
-            }
-            Ok(())
-        })?;
+        engine::write_csv(path, &rows)?;
     }
     Ok(())
 }

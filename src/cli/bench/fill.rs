@@ -87,16 +87,6 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .iter()
         .map(|s| ReferenceScene::by_name(s))
         .collect::<anyhow::Result<Vec<_>>>()?;
-    anyhow::ensure!(
-        args.max_relaxation_s.is_finite() && args.max_relaxation_s > 0.0,
-        "--max-relaxation-s {}: expected a positive time (s)",
-        args.max_relaxation_s
-    );
-    anyhow::ensure!(
-        args.rdf_margin.is_finite() && args.rdf_margin >= 0.0,
-        "--rdf-margin {}: expected a number of grain widths >= 0",
-        args.rdf_margin
-    );
     let config = BenchConfig {
         scenes,
         settings,

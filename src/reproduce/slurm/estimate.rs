@@ -11,7 +11,6 @@ use std::path::Path;
 use anyhow::Context;
 
 use crate::fill::Silo;
-use crate::grains::GrainKind;
 use crate::reproduce::plan::Plan;
 use crate::reproduce::shard::Unit;
 use crate::reproduce::simulate::{Filling, Side};
@@ -79,7 +78,7 @@ fn rendered_pixels(plan: &Plan, f: &Filling) -> f64 {
     let height_mm = match plan.frame {
         FrameChoice::RegionE => REGION_E_HEIGHT_MM,
         _ => {
-            let kind = GrainKind::from(f.kind);
+            let kind = f.kind;
             let area_mm2 = kind.length() * kind.width() * 1e6;
             let grains = plan
                 .shapes

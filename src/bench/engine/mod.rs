@@ -7,6 +7,8 @@
 //! in [0, 2 pi), at rest; settled under gravity with a coarse step (and quenched if still
 //! moving), then timed at the paper's 1e-6 s.
 
+mod run;
+
 use std::time::Instant;
 
 use anyhow::Context;
@@ -15,6 +17,8 @@ use rand_chacha::ChaCha8Rng;
 use sim::{ContactLaw, GrainState, ShapeId, Vec2, Wall, World, WorldSettings};
 
 use crate::grains::{DEFAULT_ROUNDING, GrainKind};
+
+pub use run::{EngineBench, EngineEvent, Layout, Row, parse_case, run, write_csv};
 
 /// Width of the benchmark box (m).
 pub const BOX_WIDTH: f64 = 0.256;
@@ -171,10 +175,10 @@ pub fn measure(
         .num_threads(threads)
         .build()
         .context("cannot start the thread pool")?;
-    let (start, cpu_start) = (Instant::now(), cpu_time());
+    let (start, cpu_start) = (Instant::now(), super::process::cpu_time());
     pool.install(|| w.run(steps))?;
     let seconds = start.elapsed().as_secs_f64();
-    let cpu_seconds = cpu_time() - cpu_start;
+    let cpu_seconds = super::process::cpu_time() - cpu_start;
     Ok(Throughput {
         threads,
         steps,
@@ -184,24 +188,4 @@ pub fn measure(
         contacts: w.contacts().count(),
         pairs: w.neighbour_pairs().0,
     })
-}
-
-/// Peak resident memory of this process (bytes), from /proc; None where unavailable.
-pub fn peak_memory() -> Option<u64> {
-    let status = std::fs::read_to_string("/proc/self/status").ok()?;
-    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
-    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kb * 1024)
-}
-
-/// User plus system processor time of this process so far (s).
-pub fn cpu_time() -> f64 {
-    // SAFETY: getrusage only writes into the struct we hand it.
-    let usage = unsafe {
-        let mut usage: libc::rusage = std::mem::zeroed();
-        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
-        usage
-    };
-    let secs = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    secs(usage.ru_utime) + secs(usage.ru_stime)
 }
