@@ -19,7 +19,8 @@ use super::progress::bar;
 ///
 /// Writes into --out:
 ///   summary.json                    every result (read back by `facets compare`)
-///   orientation.png/.csv            f(theta) per phi0, ensemble mean +- standard error
+///   orientation.png/.csv            f(theta) per phi0 in 1/deg against theta in degrees over
+///                                   the folding range, ensemble mean +- standard error
 ///   rdf.png/.csv                    g(r) per phi0 (r in grain widths D, dr = 0.1 D)
 ///   g1_vs_phi0.png/.csv             g(r = D) against phi0
 ///   packing_fraction_vs_phi0.png/.csv   phi_f of the analysed area against phi0
@@ -28,7 +29,8 @@ use super::progress::bar;
 ///                                   fit (simulated deposits only)
 ///   pressure_w_scan_phi0_X.png/.csv -sigma_yy for each coarse-graining width of the scan
 ///   deposit_SRC_phi0_X.png          the first deposit of each ensemble, grains coloured by
-///                                   orientation, force chains with width proportional to force;
+///                                   orientation (colour key in degrees), outlined, force chains
+///                                   with width proportional to force (key in N);
 ///                                   .csv = force chains, .grains.csv = grains
 /// Chart CSVs have one row per point: series,<x>,<y>,stderr. Stresses are in N/m (2D); divide by
 /// the plate gap for Pa.

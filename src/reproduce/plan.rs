@@ -56,8 +56,7 @@ pub struct Plan {
 impl Plan {
     /// `facets reproduce --quick`: the README's main job, small silos and ensembles: a 160 mm
     /// silo (an 80 mm analysed strip), two phi0 a shape, six simulated and three photographed
-    /// fillings each. At the default dt = t_c/25 this takes about 3 minutes on 2 cores (the
-    /// 10-minute budget leaves room for a slower machine).
+    /// fillings each. It fits the README's 10-minute budget for the main job on 2 cores.
     pub fn quick() -> Plan {
         Plan {
             name: "quick".into(),
