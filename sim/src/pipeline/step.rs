@@ -9,8 +9,9 @@ use crate::dynamics::ContactLaw;
 use crate::error::SimError;
 use crate::math::{Vec2, rotate};
 use crate::query::{
-    Features, PlacedCore, SubContact, core_core_separation, core_core_sub_contacts,
-    core_wall_sub_contacts, feature_overlap, wall_feature_overlap,
+    Features, NearVertices, PlacedCore, SubContact, core_core_separation, core_core_sub_contacts,
+    core_core_sub_contacts_and_near, core_wall_sub_contacts, feature_overlap,
+    near_vertex_sub_contacts, wall_feature_overlap,
 };
 
 impl World {
@@ -366,13 +367,33 @@ impl World {
                         }
                         let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                         let previous = || contact.subs.iter().map(|s| s.features);
-                        core_core_sub_contacts(&first, &second, previous, &mut found);
+                        // Only the vertices that came near can touch until the grains have
+                        // travelled the others' clearance: the same sub-contacts, found sooner.
+                        let certified = travelled < contact.apart_until;
+                        let near = if certified && contact.near != NearVertices::NONE {
+                            near_vertex_sub_contacts(
+                                &first,
+                                &second,
+                                contact.near,
+                                previous,
+                                &mut found,
+                            );
+                            None
+                        } else {
+                            Some(core_core_sub_contacts_and_near(
+                                &first, &second, previous, &mut found,
+                            ))
+                        };
                         let kinematics = (this.kinematics(i), this.kinematics(j));
                         resolve(contact, &found, kinematics, law, this.dt, would_be);
                         if found.is_empty() {
                             let cutoff = first.radius + second.radius;
                             let gap = core_core_separation(&first, &second) - cutoff;
                             contact.apart_until = apart_until(travelled, gap);
+                            contact.near = NearVertices::NONE;
+                        } else if let Some((near, clearance)) = near {
+                            contact.apart_until = travelled + clearance;
+                            contact.near = near;
                         }
                         *push = Push::of(contact);
                     });
