@@ -320,7 +320,7 @@ impl World {
         // in cache where the contacts with their histories do not.
         let mut pair_push = std::mem::take(&mut self.pair_push);
         let mut wall_push = std::mem::take(&mut self.wall_push);
-        pair_push.resize(pair_contacts.len(), Push::default());
+        pair_push.resize(pair_contacts.len(), Push::APART);
         wall_push.resize(wall_contacts.len(), Push::default());
         {
             let this = &*self;
@@ -339,7 +339,7 @@ impl World {
                         if !(awake[i] || awake[j]) {
                             // Both at rest: the contact keeps the force it had.
                             if stale {
-                                *push = Push::of(contact);
+                                *push = Push::pair(contact);
                             }
                             return;
                         }
@@ -349,7 +349,7 @@ impl World {
                         if contact.subs.is_empty() && travelled < contact.apart_until {
                             // Its push is already nothing, unless the lists moved it.
                             if stale {
-                                *push = Push::default();
+                                *push = Push::APART;
                             }
                             return;
                         }
@@ -362,7 +362,7 @@ impl World {
                         if centres >= reach * reach {
                             contact.clear(law, would_be);
                             contact.apart_until = apart_until(travelled, centres.sqrt() - reach);
-                            *push = Push::default();
+                            *push = Push::APART;
                             return;
                         }
                         let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
@@ -395,7 +395,7 @@ impl World {
                             contact.apart_until = travelled + clearance;
                             contact.near = near;
                         }
-                        *push = Push::of(contact);
+                        *push = Push::pair(contact);
                     });
             };
             let walls = || {
@@ -408,7 +408,7 @@ impl World {
                         let (i, k) = (i as usize, k as usize);
                         if !awake[i] {
                             if stale {
-                                *push = Push::of(contact);
+                                *push = Push::on_first(contact);
                             }
                             return;
                         }
@@ -419,7 +419,7 @@ impl World {
                         resolve(contact, &found, kinematics, &this.wall_law, this.dt, |f| {
                             wall_feature_overlap(&core, wall, f)
                         });
-                        *push = Push::of(contact);
+                        *push = Push::on_first(contact);
                     });
             };
             rayon::join(pairs, walls);
@@ -479,19 +479,14 @@ impl World {
                     if mobile[i] {
                         f = gravity * mass[i];
                         for &(k, first) in pairs.of(i) {
-                            let c = &pair_push[k as usize];
-                            if first {
-                                f += c.force;
-                                t += c.torque_first;
-                            } else {
-                                f -= c.force;
-                                t += c.torque_second;
-                            }
+                            let c = &pair_push[k as usize][usize::from(!first)];
+                            f += c.force;
+                            t += c.torque;
                         }
                         for &(k, _) in walls.of(i) {
                             let c = &wall_push[k as usize];
                             f += c.force;
-                            t += c.torque_first;
+                            t += c.torque;
                         }
                         if let Some(plates) = &plates {
                             let (push, stretch) =
@@ -578,20 +573,43 @@ fn apart_until(travelled: f64, gap: f64) -> f64 {
 /// Below this many awake grains a step runs on one thread.
 const SERIAL_BELOW: usize = 256;
 
-/// What a contact does to its two bodies this step.
+/// What a contact does to one of its bodies this step. The gather only adds: the second
+/// body's force is kept negated (x - y and x + (-y) are the same number), so summing a
+/// grain's pushes needs no branch on which body it is.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Push {
     force: Vec2,
-    torque_first: f64,
-    torque_second: f64,
+    torque: f64,
 }
 
 impl Push {
-    fn of(contact: &PairContact) -> Self {
+    /// The pushes of a pair that does not touch: those of a zero force.
+    const APART: [Self; 2] = [
+        Self {
+            force: Vec2::new(0.0, 0.0),
+            torque: 0.0,
+        },
+        Self {
+            force: Vec2::new(-0.0, -0.0),
+            torque: 0.0,
+        },
+    ];
+
+    /// On the first and on the second body.
+    fn pair(contact: &PairContact) -> [Self; 2] {
+        [
+            Self::on_first(contact),
+            Self {
+                force: -contact.force,
+                torque: contact.torque_second,
+            },
+        ]
+    }
+
+    fn on_first(contact: &PairContact) -> Self {
         Self {
             force: contact.force,
-            torque_first: contact.torque_first,
-            torque_second: contact.torque_second,
+            torque: contact.torque_first,
         }
     }
 }
