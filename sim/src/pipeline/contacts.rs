@@ -3,7 +3,7 @@ use smallvec::SmallVec;
 
 use crate::dynamics::ContactLaw;
 use crate::math::{Vec2, cross, cross_scalar, perp};
-use crate::query::{Features, SubContact};
+use crate::query::{Features, NearVertices, SubContact};
 
 /// The other body of a contact.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -55,9 +55,13 @@ pub struct PairContact {
     /// Elastic energy this pair's sub-contacts brought in by appearing, less what they took
     /// away by vanishing, since the pair was created (J). See [`super::Energies::switching`].
     pub switched: f64,
-    /// The pair cannot touch while the two grains' `travel` sums to less than this: their
-    /// travel when it was found apart, plus how far apart it was (0: look every step).
+    /// While the two grains' `travel` sums to less than this, the pair cannot touch (no
+    /// sub-contacts: their travel when it was found apart, plus how far apart it was), or only
+    /// its `near` vertices can (0: look at every vertex every step).
     pub apart_until: f64,
+    /// The vertices that may touch while `apart_until` holds, for a pair in touch
+    /// ([`NearVertices::NONE`]: not known, look at every vertex).
+    pub near: NearVertices,
 }
 
 /// One sub-contact as seen from outside: who, where, how hard.

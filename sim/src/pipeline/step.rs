@@ -9,8 +9,9 @@ use crate::dynamics::ContactLaw;
 use crate::error::SimError;
 use crate::math::{Vec2, rotate};
 use crate::query::{
-    Features, PlacedCore, SubContact, core_core_separation, core_core_sub_contacts,
-    core_wall_sub_contacts, feature_overlap, wall_feature_overlap,
+    Features, NearVertices, PlacedCore, SubContact, core_core_separation, core_core_sub_contacts,
+    core_core_sub_contacts_and_near, core_wall_sub_contacts, feature_overlap,
+    near_vertex_sub_contacts, wall_feature_overlap,
 };
 
 impl World {
@@ -124,50 +125,61 @@ impl World {
             &g.inverse_inertia,
             &g.shape,
         );
+        // Blocks of grains, each a plain loop: handing the pass grain by grain through the
+        // eight zipped arrays cost more than the kick and drift themselves.
         (
-            &mut g.position,
-            &mut g.angle,
-            &mut g.rotation,
-            &mut g.velocity,
-            &mut g.angular_velocity,
-            self.placed_vertices.par_chunks_mut(stride),
-            self.placed_directions.par_chunks_mut(stride),
-            &mut self.travel,
+            g.position.par_chunks_mut(BLOCK),
+            g.angle.par_chunks_mut(BLOCK),
+            g.rotation.par_chunks_mut(BLOCK),
+            g.velocity.par_chunks_mut(BLOCK),
+            g.angular_velocity.par_chunks_mut(BLOCK),
+            self.placed_vertices.par_chunks_mut(BLOCK * stride),
+            self.placed_directions.par_chunks_mut(BLOCK * stride),
+            self.travel.par_chunks_mut(BLOCK),
         )
             .into_par_iter()
             .with_min_len(self.min_len)
             .enumerate()
             .map(
-                |(i, (x, theta, rotation, v, w, vertices, directions, travel))| {
-                    // Fixed and sleeping grains stay where they are, cores placed.
-                    if !awake[i] {
-                        return !fresh;
+                |(block, (xs, thetas, rotations, vs, ws, vertices, directions, travels))| {
+                    let mut stale = false;
+                    for k in 0..xs.len() {
+                        let i = block * BLOCK + k;
+                        // Fixed and sleeping grains stay where they are, cores placed.
+                        if !awake[i] {
+                            stale |= !fresh;
+                            continue;
+                        }
+                        let (x, theta, v, w) = (&mut xs[k], &mut thetas[k], &mut vs[k], &mut ws[k]);
+                        let d = drag_factor(decay, force[i], torque[i], gravity * mass[i]);
+                        *v = *v * d + force[i] * (inverse_mass[i] * dt / 2.0);
+                        *w = *w * d + torque[i] * inverse_inertia[i] * dt / 2.0;
+                        *x += *v * dt;
+                        let turn = *w * dt;
+                        // A vertex moves at most |dx| + arm |turn|; the slack covers the
+                        // rounding of the position and of the turned (cos, sin), far below a
+                        // nanometre a step.
+                        travels[k] += (v.norm() * dt + arm[i] * turn.abs()) * (1.0 + 1e-9) + 1e-15;
+                        *theta += turn;
+                        rotations[k] = rotate_by(rotations[k], turn);
+                        let (cos, sin) = rotations[k];
+                        let outline = &shapes[shape[i] as usize].shape;
+                        let slots = k * stride..(k + 1) * stride;
+                        let (vertices, directions) =
+                            (&mut vertices[slots.clone()], &mut directions[slots]);
+                        for (k, v) in outline.vertices().iter().enumerate() {
+                            vertices[k] = *x + rotate(*v, cos, sin);
+                            directions[k] = rotate(outline.edge_directions()[k], cos, sin);
+                        }
+                        stale |= !fresh
+                            || moved_past_half_skin(
+                                *x - reference[i],
+                                *theta - reference_angles[i],
+                                arm[i],
+                                skin,
+                            );
                     }
-                    let d = drag_factor(decay, force[i], torque[i], gravity * mass[i]);
-                    *v = *v * d + force[i] * (inverse_mass[i] * dt / 2.0);
-                    *w = *w * d + torque[i] * inverse_inertia[i] * dt / 2.0;
-                    *x += *v * dt;
-                    let turn = *w * dt;
-                    // A vertex moves at most |dx| + arm |turn|; the slack covers the rounding of
-                    // the position and of the turned (cos, sin), far below a nanometre a step.
-                    *travel += (v.norm() * dt + arm[i] * turn.abs()) * (1.0 + 1e-9) + 1e-15;
-                    *theta += turn;
-                    *rotation = rotate_by(*rotation, turn);
-                    let (cos, sin) = *rotation;
-                    let outline = &shapes[shape[i] as usize].shape;
-                    for (k, v) in outline.vertices().iter().enumerate() {
-                        vertices[k] = *x + rotate(*v, cos, sin);
-                        directions[k] = rotate(outline.edge_directions()[k], cos, sin);
-                    }
-                    if !fresh {
-                        return true;
-                    }
-                    moved_past_half_skin(
-                        *x - reference[i],
-                        *theta - reference_angles[i],
-                        arm[i],
-                        skin,
-                    )
+                    stale
                 },
             )
             .reduce(|| false, |a, b| a || b)
@@ -319,7 +331,7 @@ impl World {
         // in cache where the contacts with their histories do not.
         let mut pair_push = std::mem::take(&mut self.pair_push);
         let mut wall_push = std::mem::take(&mut self.wall_push);
-        pair_push.resize(pair_contacts.len(), Push::default());
+        pair_push.resize(pair_contacts.len(), Push::APART);
         wall_push.resize(wall_contacts.len(), Push::default());
         {
             let this = &*self;
@@ -338,7 +350,7 @@ impl World {
                         if !(awake[i] || awake[j]) {
                             // Both at rest: the contact keeps the force it had.
                             if stale {
-                                *push = Push::of(contact);
+                                *push = Push::pair(contact);
                             }
                             return;
                         }
@@ -348,7 +360,7 @@ impl World {
                         if contact.subs.is_empty() && travelled < contact.apart_until {
                             // Its push is already nothing, unless the lists moved it.
                             if stale {
-                                *push = Push::default();
+                                *push = Push::APART;
                             }
                             return;
                         }
@@ -361,20 +373,40 @@ impl World {
                         if centres >= reach * reach {
                             contact.clear(law, would_be);
                             contact.apart_until = apart_until(travelled, centres.sqrt() - reach);
-                            *push = Push::default();
+                            *push = Push::APART;
                             return;
                         }
                         let mut found: SmallVec<[SubContact; 4]> = SmallVec::new();
                         let previous = || contact.subs.iter().map(|s| s.features);
-                        core_core_sub_contacts(&first, &second, previous, &mut found);
+                        // Only the vertices that came near can touch until the grains have
+                        // travelled the others' clearance: the same sub-contacts, found sooner.
+                        let certified = travelled < contact.apart_until;
+                        let near = if certified && contact.near != NearVertices::NONE {
+                            near_vertex_sub_contacts(
+                                &first,
+                                &second,
+                                contact.near,
+                                previous,
+                                &mut found,
+                            );
+                            None
+                        } else {
+                            Some(core_core_sub_contacts_and_near(
+                                &first, &second, previous, &mut found,
+                            ))
+                        };
                         let kinematics = (this.kinematics(i), this.kinematics(j));
                         resolve(contact, &found, kinematics, law, this.dt, would_be);
                         if found.is_empty() {
                             let cutoff = first.radius + second.radius;
                             let gap = core_core_separation(&first, &second) - cutoff;
                             contact.apart_until = apart_until(travelled, gap);
+                            contact.near = NearVertices::NONE;
+                        } else if let Some((near, clearance)) = near {
+                            contact.apart_until = travelled + clearance;
+                            contact.near = near;
                         }
-                        *push = Push::of(contact);
+                        *push = Push::pair(contact);
                     });
             };
             let walls = || {
@@ -387,7 +419,7 @@ impl World {
                         let (i, k) = (i as usize, k as usize);
                         if !awake[i] {
                             if stale {
-                                *push = Push::of(contact);
+                                *push = Push::on_first(contact);
                             }
                             return;
                         }
@@ -398,7 +430,7 @@ impl World {
                         resolve(contact, &found, kinematics, &this.wall_law, this.dt, |f| {
                             wall_feature_overlap(&core, wall, f)
                         });
-                        *push = Push::of(contact);
+                        *push = Push::on_first(contact);
                     });
             };
             rayon::join(pairs, walls);
@@ -433,80 +465,107 @@ impl World {
         } = &mut self.dormancy;
         let sleep = *sleep;
         let gravity_norm = gravity.norm();
+        // The end of the step for grain i, given its slots.
+        #[allow(clippy::type_complexity)]
+        let grain_end = |i: usize,
+                         (force, torque, v, w, awake, watched, quiet_steps, anchor, slip): (
+            &mut Vec2,
+            &mut f64,
+            &mut Vec2,
+            &mut f64,
+            &mut bool,
+            &mut bool,
+            &mut u32,
+            &mut (Vec2, f64),
+            &mut Vec2,
+        )| {
+            // A sleeping grain's forces change only through awake neighbours.
+            if mobile[i] && !(*awake || *watched) {
+                return false;
+            }
+            let mut f = Vec2::zeros();
+            let mut t = 0.0;
+            if mobile[i] {
+                f = gravity * mass[i];
+                for &(k, first) in pairs.of(i) {
+                    let c = &pair_push[k as usize][usize::from(!first)];
+                    f += c.force;
+                    t += c.torque;
+                }
+                for &(k, _) in walls.of(i) {
+                    let c = &wall_push[k as usize];
+                    f += c.force;
+                    t += c.torque;
+                }
+                if let Some(plates) = &plates {
+                    let (push, stretch) =
+                        plates.force(law, mass[i], gravity_norm, *v, *slip, plate_dt);
+                    f += push;
+                    *slip = stretch;
+                }
+            }
+            *force = f;
+            *torque = t;
+            let Some(kick) = kick else {
+                return false;
+            };
+            // The rest of the step, grain by grain, now that its force is known: a watched
+            // sleeper disturbed wakes, the awake grains take the second half kick, and
+            // count how long they have been quiet.
+            let weight = mass[i] * gravity_norm;
+            let here = (position[i], angle[i]);
+            let mut woke = false;
+            if let Some(s) = &sleep {
+                if *watched && s.disturbed(f, t, asleep_load[i], weight, arm[i]) {
+                    (*awake, *watched, *quiet_steps, *anchor) = (true, false, 0, here);
+                    woke = true;
+                }
+            }
+            if *awake {
+                let d = drag_factor(decay, f, t, gravity * mass[i]);
+                *v = *v * d + f * (inverse_mass[i] * kick);
+                *w = *w * d + t * inverse_inertia[i] * kick;
+                if let Some(s) = &sleep {
+                    if s.quiet(*v, *w, f, t, weight, arm[i], here, *anchor) {
+                        *quiet_steps = quiet_steps.saturating_add(1);
+                    } else {
+                        (*quiet_steps, *anchor) = (0, here);
+                    }
+                }
+            }
+            woke
+        };
+        // Blocks of grains, each a plain loop (see `kick_drift_place`).
         let woke = (
-            force,
-            torque,
-            velocity,
-            angular_velocity,
-            awake,
-            watched,
-            quiet_steps,
-            anchor,
-            &mut self.plate_slip,
+            force.par_chunks_mut(BLOCK),
+            torque.par_chunks_mut(BLOCK),
+            velocity.par_chunks_mut(BLOCK),
+            angular_velocity.par_chunks_mut(BLOCK),
+            awake.par_chunks_mut(BLOCK),
+            watched.par_chunks_mut(BLOCK),
+            quiet_steps.par_chunks_mut(BLOCK),
+            anchor.par_chunks_mut(BLOCK),
+            self.plate_slip.par_chunks_mut(BLOCK),
         )
             .into_par_iter()
             .with_min_len(self.min_len)
             .enumerate()
             .map(
-                |(i, (force, torque, v, w, awake, watched, quiet_steps, anchor, slip))| {
-                    // A sleeping grain's forces change only through awake neighbours.
-                    if mobile[i] && !(*awake || *watched) {
-                        return false;
-                    }
-                    let mut f = Vec2::zeros();
-                    let mut t = 0.0;
-                    if mobile[i] {
-                        f = gravity * mass[i];
-                        for &(k, first) in pairs.of(i) {
-                            let c = &pair_push[k as usize];
-                            if first {
-                                f += c.force;
-                                t += c.torque_first;
-                            } else {
-                                f -= c.force;
-                                t += c.torque_second;
-                            }
-                        }
-                        for &(k, _) in walls.of(i) {
-                            let c = &wall_push[k as usize];
-                            f += c.force;
-                            t += c.torque_first;
-                        }
-                        if let Some(plates) = &plates {
-                            let (push, stretch) =
-                                plates.force(law, mass[i], gravity_norm, *v, *slip, plate_dt);
-                            f += push;
-                            *slip = stretch;
-                        }
-                    }
-                    *force = f;
-                    *torque = t;
-                    let Some(kick) = kick else {
-                        return false;
-                    };
-                    // The rest of the step, grain by grain, now that its force is known: a watched
-                    // sleeper disturbed wakes, the awake grains take the second half kick, and
-                    // count how long they have been quiet.
-                    let weight = mass[i] * gravity_norm;
-                    let here = (position[i], angle[i]);
+                |(block, (fs, ts, vs, ws, awakes, watcheds, quiets, anchors, slips))| {
                     let mut woke = false;
-                    if let Some(s) = &sleep {
-                        if *watched && s.disturbed(f, t, asleep_load[i], weight, arm[i]) {
-                            (*awake, *watched, *quiet_steps, *anchor) = (true, false, 0, here);
-                            woke = true;
-                        }
-                    }
-                    if *awake {
-                        let d = drag_factor(decay, f, t, gravity * mass[i]);
-                        *v = *v * d + f * (inverse_mass[i] * kick);
-                        *w = *w * d + t * inverse_inertia[i] * kick;
-                        if let Some(s) = &sleep {
-                            if s.quiet(*v, *w, f, t, weight, arm[i], here, *anchor) {
-                                *quiet_steps = quiet_steps.saturating_add(1);
-                            } else {
-                                (*quiet_steps, *anchor) = (0, here);
-                            }
-                        }
+                    for k in 0..fs.len() {
+                        let slots = (
+                            &mut fs[k],
+                            &mut ts[k],
+                            &mut vs[k],
+                            &mut ws[k],
+                            &mut awakes[k],
+                            &mut watcheds[k],
+                            &mut quiets[k],
+                            &mut anchors[k],
+                            &mut slips[k],
+                        );
+                        woke |= grain_end(block * BLOCK + k, slots);
                     }
                     woke
                 },
@@ -554,23 +613,49 @@ fn apart_until(travelled: f64, gap: f64) -> f64 {
     }
 }
 
+/// Grains a pass over the grains hands to a thread at a time.
+const BLOCK: usize = 64;
+
 /// Below this many awake grains a step runs on one thread.
 const SERIAL_BELOW: usize = 256;
 
-/// What a contact does to its two bodies this step.
+/// What a contact does to one of its bodies this step. The gather only adds: the second
+/// body's force is kept negated (x - y and x + (-y) are the same number), so summing a
+/// grain's pushes needs no branch on which body it is.
 #[derive(Clone, Copy, Debug, Default, serde::Serialize, serde::Deserialize)]
 pub(crate) struct Push {
     force: Vec2,
-    torque_first: f64,
-    torque_second: f64,
+    torque: f64,
 }
 
 impl Push {
-    fn of(contact: &PairContact) -> Self {
+    /// The pushes of a pair that does not touch: those of a zero force.
+    const APART: [Self; 2] = [
+        Self {
+            force: Vec2::new(0.0, 0.0),
+            torque: 0.0,
+        },
+        Self {
+            force: Vec2::new(-0.0, -0.0),
+            torque: 0.0,
+        },
+    ];
+
+    /// On the first and on the second body.
+    fn pair(contact: &PairContact) -> [Self; 2] {
+        [
+            Self::on_first(contact),
+            Self {
+                force: -contact.force,
+                torque: contact.torque_second,
+            },
+        ]
+    }
+
+    fn on_first(contact: &PairContact) -> Self {
         Self {
             force: contact.force,
-            torque_first: contact.torque_first,
-            torque_second: contact.torque_second,
+            torque: contact.torque_first,
         }
     }
 }

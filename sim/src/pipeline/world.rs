@@ -115,7 +115,7 @@ pub struct World {
     pub(crate) verlet: VerletList,
     pub(crate) pair_contacts: Vec<PairContact>,
     pub(crate) wall_contacts: Vec<PairContact>,
-    pub(crate) pair_push: Vec<super::step::Push>,
+    pub(crate) pair_push: Vec<[super::step::Push; 2]>,
     pub(crate) wall_push: Vec<super::step::Push>,
     /// The contact lists were re-indexed since the pushes were last written: the pushes of
     /// contacts at rest must be copied again.

@@ -1,5 +1,6 @@
 use smallvec::SmallVec;
 
+use super::near_vertices::{NEAR_WITHIN, NearVertices, RECHECK_AFTER, Verdict};
 use super::{Features, PlacedCore, SubContact, WeightGradient};
 use crate::math::{Vec2, cross, perp};
 
@@ -56,10 +57,77 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
     previous: impl Fn() -> I,
     out: &mut SmallVec<[SubContact; 4]>,
 ) {
+    sub_contacts_of(
+        first,
+        second,
+        NearVertices::ALL,
+        previous,
+        out,
+        |_, _, _| {},
+    );
+}
+
+/// The sub-contacts of [`core_core_sub_contacts`], and the vertices that came near the other
+/// core with how much longer the others stay out of its reach (see [`NearVertices`]).
+pub fn core_core_sub_contacts_and_near<I: Iterator<Item = Features>>(
+    first: &PlacedCore,
+    second: &PlacedCore,
+    previous: impl Fn() -> I,
+    out: &mut SmallVec<[SubContact; 4]>,
+) -> (NearVertices, f64) {
+    let cutoff = first.radius + second.radius;
+    let mut near = NearVertices::NONE;
+    let mut clearance = RECHECK_AFTER * cutoff;
+    sub_contacts_of(
+        first,
+        second,
+        NearVertices::ALL,
+        previous,
+        out,
+        |of_first, k, verdict| {
+            let core = if of_first { second } else { first };
+            let margin = verdict.clearance(core, cutoff);
+            if margin < NEAR_WITHIN * cutoff {
+                near.insert(of_first, k);
+            } else {
+                clearance = clearance.min(margin);
+            }
+        },
+    );
+    (near, clearance)
+}
+
+/// The sub-contacts of [`core_core_sub_contacts`] when only the `near` vertices can touch
+/// (the others are certified out of reach, [`NearVertices`]): the same sub-contacts, in the
+/// same order, from the same arithmetic.
+pub fn near_vertex_sub_contacts<I: Iterator<Item = Features>>(
+    first: &PlacedCore,
+    second: &PlacedCore,
+    near: NearVertices,
+    previous: impl Fn() -> I,
+    out: &mut SmallVec<[SubContact; 4]>,
+) {
+    sub_contacts_of(first, second, near, previous, out, |_, _, _| {});
+}
+
+/// Sub-contacts of the vertices in `among`; `verdict` hears how each vertex looked at ended
+/// (true for a vertex of the first core).
+#[inline(always)]
+fn sub_contacts_of<I: Iterator<Item = Features>>(
+    first: &PlacedCore,
+    second: &PlacedCore,
+    among: NearVertices,
+    previous: impl Fn() -> I,
+    out: &mut SmallVec<[SubContact; 4]>,
+    mut verdict: impl FnMut(bool, usize, Verdict),
+) {
     let cutoff = first.radius + second.radius;
     for k in 0..first.len() {
+        if !among.contains(true, k) {
+            continue;
+        }
         let preferred = || entry(first, k, second, &previous);
-        vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
+        let seen = vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
                 Foot::Edge(e) => Features::VertexEdge {
                     vertex: k as u8,
@@ -81,10 +149,14 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
                 weight_gradient: WeightGradient::ZERO,
             });
         });
+        verdict(true, k, seen);
     }
     for m in 0..second.len() {
+        if !among.contains(false, m) {
+            continue;
+        }
         let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
-        vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
+        let seen = vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
             let Foot::Edge(e) = touch.foot else { return };
             let p = second.vertices[m];
             out.push(SubContact {
@@ -100,6 +172,7 @@ pub fn core_core_sub_contacts<I: Iterator<Item = Features>>(
                 weight_gradient: WeightGradient::ZERO,
             });
         });
+        verdict(false, m, seen);
     }
     share_close_corners(first, second, out);
 }
@@ -317,7 +390,9 @@ pub fn feature_overlap(first: &PlacedCore, second: &PlacedCore, features: Featur
     distance.map_or(0.0, |d| cutoff - d)
 }
 
-/// Vertex k of `owner` against `core`: calls `emit` for each touch within `cutoff`.
+/// Vertex k of `owner` against `core`: calls `emit` for each touch within `cutoff`, and
+/// tells how it ended.
+#[inline(always)]
 fn vertex_against_core(
     owner: &PlacedCore,
     k: usize,
@@ -326,12 +401,13 @@ fn vertex_against_core(
     vertex_vertex: bool,
     preferred_entry: impl FnOnce() -> Option<Entry>,
     mut emit: impl FnMut(Touch),
-) {
+) -> Verdict {
     let p = owner.vertices[k];
     // Farther from the other core's centre than its farthest vertex plus the cutoff: no touch.
     let reach = core.arm + cutoff;
-    if (p - core.centre).norm_squared() >= reach * reach {
-        return;
+    let centre_squared = (p - core.centre).norm_squared();
+    if centre_squared >= reach * reach {
+        return Verdict::Beyond { centre_squared };
     }
     let n = core.len();
 
@@ -345,7 +421,7 @@ fn vertex_against_core(
     for e in 0..n {
         let s = (p - core.vertices[e]).dot(&core.normal(e));
         if s >= cutoff {
-            return;
+            return Verdict::BehindEdge { signed: s };
         }
         if e < signed.len() {
             signed[e] = s;
@@ -382,7 +458,7 @@ fn vertex_against_core(
             distance,
             closest: p - normal * distance,
         });
-        return;
+        return Verdict::Near;
     }
 
     let (owner_in, owner_out) = (owner.directions[owner.previous(k)], owner.directions[k]);
@@ -427,6 +503,7 @@ fn vertex_against_core(
             }
         }
     }
+    Verdict::Near
 }
 
 #[cfg(test)]
@@ -480,6 +557,94 @@ mod tests {
         let mut out = SmallVec::new();
         core_core_sub_contacts(&a.core(), &b.core(), std::iter::empty, &mut out);
         out
+    }
+
+    #[test]
+    fn near_vertices_find_every_sub_contact_while_the_grains_travel_less_than_the_clearance() {
+        // Pairs of squares and rods placed at random in and near touch, then moved by random
+        // steps (slides, and turns that sweep the far ends of the edge lines) as long as their
+        // summed travel stays below the clearance: the near vertices alone must give what all
+        // of them give, bit for bit.
+        let shapes = [
+            square(),
+            Spheropolygon::rounded_rectangle(4.0, 1.0, 0.1).unwrap(),
+        ];
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut uniform = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let (mut checked, mut skipped, mut expired) = (0, 0, 0);
+        for trial in 0..2000 {
+            let (a, b) = (&shapes[trial % 2], &shapes[(trial / 2) % 2]);
+            let reach = a.bounding_radius() + b.bounding_radius();
+            let direction = uniform() * std::f64::consts::TAU;
+            let distance = reach * (0.4 + 0.65 * uniform());
+            let mut placement = [
+                (Vec2::zeros(), uniform() * std::f64::consts::TAU),
+                (
+                    Vec2::new(direction.cos(), direction.sin()) * distance,
+                    uniform() * std::f64::consts::TAU,
+                ),
+            ];
+            let place = |p: &[(Vec2, f64); 2]| {
+                (
+                    Placed::new(a, p[0].0, p[0].1),
+                    Placed::new(b, p[1].0, p[1].1),
+                )
+            };
+            let (first, second) = place(&placement);
+            let mut out = SmallVec::new();
+            let (near, clearance) = core_core_sub_contacts_and_near(
+                &first.core(),
+                &second.core(),
+                std::iter::empty,
+                &mut out,
+            );
+            let arms = [first.arm, second.arm];
+            let mut travelled = 0.0;
+            loop {
+                // Steps of up to a third of the clearance, each a slide (towards the other
+                // grain, or anywhere) or a turn.
+                let towards = placement[1].0 - placement[0].0;
+                for (k, (centre, angle)) in placement.iter_mut().enumerate() {
+                    let size = clearance / 3.0 * uniform();
+                    let draw = uniform();
+                    if draw < 0.4 {
+                        let sign = if k == 0 { 1.0 } else { -1.0 };
+                        *centre += towards.normalize() * (sign * size);
+                    } else if draw < 0.6 {
+                        let heading = uniform() * std::f64::consts::TAU;
+                        *centre += Vec2::new(heading.cos(), heading.sin()) * size;
+                    } else {
+                        let turn = size / arms[k] * if uniform() < 0.5 { -1.0 } else { 1.0 };
+                        *angle += turn;
+                    }
+                    travelled += size * (1.0 + 1e-9) + 1e-15;
+                }
+                if travelled >= clearance {
+                    expired += 1;
+                    break;
+                }
+                let (first, second) = place(&placement);
+                let (mut all, mut some) = (SmallVec::new(), SmallVec::new());
+                core_core_sub_contacts(&first.core(), &second.core(), std::iter::empty, &mut all);
+                near_vertex_sub_contacts(
+                    &first.core(),
+                    &second.core(),
+                    near,
+                    std::iter::empty,
+                    &mut some,
+                );
+                assert_eq!(all, some, "trial {trial}, {near:?}, clearance {clearance}");
+                checked += 1;
+                skipped += 8 - (near.first.count_ones() + near.second.count_ones()) as usize;
+            }
+        }
+        // The check saw many steps, vertices left out, and the clearance run out.
+        assert!(checked > 1000 && skipped > 4 * checked && expired == 2000);
     }
 
     fn square() -> Spheropolygon {
