@@ -16,11 +16,11 @@ pub enum GrainKind {
     #[value(name = "square", alias = "squares")]
     Square,
     /// Steel cylinder 4.9 x 3 mm seen from the side (d = 5/3).
-    #[serde(rename = "rod53", alias = "short-rod")]
+    #[serde(rename = "rod53", alias = "short-rod", alias = "short_rod")]
     #[value(name = "rod53", alias = "short-rod")]
     ShortRod,
     /// Steel cylinder 8.9 x 3 mm seen from the side (d = 3).
-    #[serde(rename = "rod3", alias = "long-rod")]
+    #[serde(rename = "rod3", alias = "long-rod", alias = "long_rod")]
     #[value(name = "rod3", alias = "long-rod")]
     LongRod,
 }
@@ -134,6 +134,14 @@ mod tests {
             let value = clap::ValueEnum::to_possible_value(&kind).unwrap();
             assert_eq!(value.get_name(), kind.name());
             assert_eq!(kind.name().parse::<GrainKind>().unwrap(), kind);
+        }
+        // Summaries written before the analysis used GrainKind name the rods so.
+        for (old, kind) in [
+            ("short_rod", GrainKind::ShortRod),
+            ("long_rod", GrainKind::LongRod),
+        ] {
+            let read: GrainKind = serde_json::from_str(&format!("\"{old}\"")).unwrap();
+            assert_eq!(read, kind);
         }
         assert!(
             "hexagon"

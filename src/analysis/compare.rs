@@ -43,8 +43,8 @@ pub fn compare(experiment: &Summary, simulation: &Summary) -> anyhow::Result<Com
     if experiment.shape != simulation.shape {
         anyhow::bail!(
             "the experiment holds {} but the simulation holds {}",
-            experiment.shape.name(),
-            simulation.shape.name()
+            experiment.shape.display_name(),
+            simulation.shape.display_name()
         );
     }
     let mut per_phi0 = Vec::new();

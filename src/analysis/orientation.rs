@@ -3,7 +3,8 @@
 use serde::{Deserialize, Serialize};
 
 use super::stats::{MeanErr, mean_err_columns};
-use crate::deposit::{Ensemble, Shape, fold_angle};
+use crate::deposit::{Ensemble, fold_angle};
+use crate::grains::GrainKind;
 
 #[derive(Clone, Copy, Debug, Serialize, Deserialize)]
 pub struct OrientationInput {
@@ -23,7 +24,7 @@ impl Default for OrientationInput {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct OrientationResult {
     pub phi0: f64,
-    pub shape: Shape,
+    pub shape: GrainKind,
     /// Folding period: pi/2 for squares, pi for rods.
     pub period: f64,
     /// Bin centres (rad).
@@ -94,7 +95,7 @@ pub fn compute(input: &OrientationInput, ensemble: &Ensemble) -> anyhow::Result<
             .collect(),
         f,
         f_err,
-        s2: (ensemble.shape != Shape::Square).then(|| MeanErr::of(&s2)),
+        s2: (ensemble.shape != GrainKind::Square).then(|| MeanErr::of(&s2)),
         s4: MeanErr::of(&s4),
         n_grains,
     })

@@ -8,7 +8,8 @@ use super::coarse_grain::{CoarseGrainInput, DEFAULT_CUTOFF};
 use super::orientation::{self, OrientationInput, OrientationResult};
 use super::pressure::{self, PressureInput, PressureProfile};
 use super::rdf::{self, RdfInput, RdfResult};
-use crate::deposit::{DepositMeta, Ensemble, Shape, Source};
+use crate::deposit::{DepositMeta, Ensemble, Source};
+use crate::grains::GrainKind;
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct AnalysisParameters {
@@ -107,9 +108,9 @@ impl AnalysisParameters {
         Ok(())
     }
 
-    pub fn w_over_d_for(&self, shape: Shape) -> f64 {
+    pub fn w_over_d_for(&self, shape: GrainKind) -> f64 {
         self.w_over_d.unwrap_or(match shape {
-            Shape::Square => 4.0,
+            GrainKind::Square => 4.0,
             _ => 3.0,
         })
     }
@@ -134,7 +135,7 @@ pub struct EnsembleSummary {
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Summary {
-    pub shape: Shape,
+    pub shape: GrainKind,
     pub source: Source,
     pub parameters: AnalysisParameters,
     pub ensembles: Vec<EnsembleSummary>,

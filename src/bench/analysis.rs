@@ -6,10 +6,11 @@ use crate::analysis::coarse_grain::{CoarseGrainInput, branches, linspace};
 use crate::analysis::rdf::{self, RdfInput};
 use crate::analysis::stress_grid::stress_on_grid;
 use crate::deposit::{
-    DepositMeta, Ensemble, FrameMm, Realisation, Shape, Source, SquareStack, jittered_lattice,
+    DepositMeta, Ensemble, FrameMm, Realisation, Source, SquareStack, jittered_lattice,
 };
 
 use super::process::best_of;
+use crate::grains::GrainKind;
 
 /// What to time.
 #[derive(Clone, Copy, Debug)]
@@ -62,7 +63,7 @@ pub fn run(bench: &AnalysisBench) -> anyhow::Result<Vec<Timing>> {
                 gravity_m_s2: None,
                 source: Source::Experiment,
             },
-            shape: Shape::Square,
+            shape: GrainKind::Square,
         })
         .collect();
     let ensemble = Ensemble::new(realisations)?;

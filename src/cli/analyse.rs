@@ -128,7 +128,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     println!(
         "{} deposits of {} in {} ensembles; summary.json and {} figures in {}",
         input.tables.len(),
-        summary.shape.name(),
+        summary.shape.display_name(),
         summary.ensembles.len(),
         figures.len(),
         args.out.display()

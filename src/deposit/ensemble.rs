@@ -3,7 +3,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 
 use super::meta::{DepositMeta, Source, contacts_path, meta_path, read_meta_json};
-use super::{AnalysedArea, Contact, Deposit, Shape, read_contacts_csv, read_deposit_csv};
+use super::{AnalysedArea, Contact, Deposit, read_contacts_csv, read_deposit_csv};
+use crate::grains::GrainKind;
 
 /// One filling: its grains, its contacts when simulated, and its sidecar.
 #[derive(Clone, Debug)]
@@ -12,7 +13,7 @@ pub struct Realisation {
     pub deposit: Deposit,
     pub contacts: Option<Vec<Contact>>,
     pub meta: DepositMeta,
-    pub shape: Shape,
+    pub shape: GrainKind,
 }
 
 impl Realisation {
@@ -54,7 +55,7 @@ pub struct LoadOptions {
 /// Reads `path` and its sidecars (see the module doc of `deposit::meta`).
 pub fn load_realisation(path: &Path, options: &LoadOptions) -> anyhow::Result<Realisation> {
     let deposit = read_deposit_csv(path)?;
-    let shape = Shape::of_deposit(&deposit)
+    let shape = GrainKind::of_deposit(&deposit)
         .with_context(|| format!("in deposit table {}", path.display()))?;
     let sidecar = meta_path(path);
     let meta = if sidecar.exists() {
@@ -89,7 +90,7 @@ pub fn load_realisation(path: &Path, options: &LoadOptions) -> anyhow::Result<Re
 /// Many realisations of one (shape, phi0) from one source.
 #[derive(Clone, Debug)]
 pub struct Ensemble {
-    pub shape: Shape,
+    pub shape: GrainKind,
     pub phi0: f64,
     pub source: Source,
     pub realisations: Vec<Realisation>,
@@ -108,9 +109,9 @@ impl Ensemble {
                 bail!(
                     "mixed shapes in one ensemble: {} holds {} but {} holds {}",
                     first.name,
-                    shape.name(),
+                    shape.display_name(),
                     r.name,
-                    r.shape.name()
+                    r.shape.display_name()
                 );
             }
             if (r.meta.phi0 - phi0).abs() > 1e-9 {
@@ -156,9 +157,9 @@ impl Ensemble {
             bail!(
                 "mixed shapes: phi0 = {} holds {} but phi0 = {} holds {}",
                 ensembles[0].phi0,
-                ensembles[0].shape.name(),
+                ensembles[0].shape.display_name(),
                 e.phi0,
-                e.shape.name()
+                e.shape.display_name()
             );
         }
         Ok(ensembles)

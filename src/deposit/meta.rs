@@ -16,7 +16,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, bail};
 use serde::{Deserialize, Serialize};
 
-use super::{Deposit, Shape};
+use super::Deposit;
+use crate::grains::GrainKind;
 
 const MM: f64 = 1e-3;
 
@@ -208,9 +209,9 @@ impl DepositMeta {
         self.gravity_m_s2.unwrap_or(10.0)
     }
 
-    pub fn areal_density(&self, shape: Shape) -> f64 {
+    pub fn areal_density(&self, shape: GrainKind) -> f64 {
         self.areal_density_kg_m2
-            .unwrap_or_else(|| shape.default_areal_density())
+            .unwrap_or_else(|| shape.areal_density())
     }
 
     /// The frame in metres as [x_min, x_max, y_min, y_max]; by default the whole width from the

@@ -31,6 +31,5 @@ pub use grain::{Grain, fold_angle};
 pub use meta::{
     DepositMeta, FrameMm, Source, contacts_path, meta_path, read_meta_json, write_meta_json,
 };
-pub use shape::Shape;
 pub use synthetic::jittered_lattice;
 pub use table::{Deposit, read_deposit_csv, write_deposit_csv};

@@ -119,7 +119,7 @@ pub fn draw_deposit(png: &Path, real: &Realisation, source: Source) -> anyhow::R
             .caption(
                 format!(
                     "{}, φ₀ = {:.3}, {side}: colour = orientation{}",
-                    real.shape.name(),
+                    real.shape.display_name(),
                     real.meta.phi0,
                     if chains.is_empty() {
                         ""
@@ -288,7 +288,8 @@ fn significant(x: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::deposit::{Shape, SquareStack};
+    use crate::deposit::SquareStack;
+    use crate::grains::GrainKind;
 
     fn rgb(c: HSLColor) -> [u8; 3] {
         let (r, g, b) = c.to_backend_color().rgb;
@@ -314,7 +315,7 @@ mod tests {
             deposit,
             contacts: Some(contacts),
             meta,
-            shape: Shape::Square,
+            shape: GrainKind::Square,
         };
         let dir = tempfile::tempdir().unwrap();
         let png = dir.path().join("deposit.png");

@@ -299,7 +299,7 @@ fn markdown(r: &Report) -> String {
             .map_or(String::new(), |x| {
                 format!(", {} grains per filling", x.grains)
             });
-        let _ = writeln!(s, "## {}{grains}\n", shape.shape.name());
+        let _ = writeln!(s, "## {}{grains}\n", shape.shape.display_name());
         for row in &shape.rows {
             let _ = writeln!(s, "### phi0 = {:.3}\n", row.phi0);
             let _ = writeln!(s, "| quantity | simulation | photographs |");

@@ -10,7 +10,8 @@ use plotters::style::colors::BLACK;
 use super::measures::{PROFILE_STEP_OVER_W, Q};
 use super::results::CaseStats;
 use super::study::Study;
-use crate::deposit::{Shape, Source};
+use crate::deposit::Source;
+use crate::grains::GrainKind;
 use crate::plot::{Chart, DotPlot, DotSeries, Kind, Series, palette, write_dot_plot, write_panels};
 
 pub const PRESSURE_FIGURE: &str = "pressure_over_overburden.png";
@@ -74,7 +75,7 @@ pub fn pressure_over_overburden_figure(
         y: vec![1.0, 1.0],
         err: None,
     };
-    let panel = |shape: Option<Shape>| {
+    let panel = |shape: Option<GrainKind>| {
         let mut series: Vec<Series> = measured(stats)
             .filter(|s| s.shape == shape)
             .map(profile)
@@ -83,7 +84,7 @@ pub fn pressure_over_overburden_figure(
         Chart {
             title: format!(
                 "Centre-line pressure over the overburden, {} (band: ± 1 SE over seeds)",
-                shape.map_or("grains", |s| s.name())
+                shape.map_or("grains", |s| s.display_name())
             ),
             x_label: "depth below the free surface h / W".into(),
             y_label: "P / (φ_f ρ g h), P = −trace(σ)/2".into(),
@@ -93,7 +94,7 @@ pub fn pressure_over_overburden_figure(
             series,
         }
     };
-    let mut panels: Vec<Chart> = [Shape::Square, Shape::ShortRod, Shape::LongRod]
+    let mut panels: Vec<Chart> = [GrainKind::Square, GrainKind::ShortRod, GrainKind::LongRod]
         .into_iter()
         .filter(|&shape| measured(stats).any(|s| s.shape == Some(shape)))
         .map(|shape| panel(Some(shape)))

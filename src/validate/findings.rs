@@ -6,7 +6,7 @@ use super::measures::{Q, STUDY_ROD53_ANGLE_DEG};
 use super::results::CaseStats;
 use super::study::Study;
 use crate::analysis::stats::MeanErr;
-use crate::deposit::Shape;
+use crate::grains::GrainKind;
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Verdict {
@@ -49,7 +49,7 @@ pub struct Finding {
     pub title: &'static str,
     pub study_says: &'static str,
     /// The (shape, phi0) rows of its table, whether measured or not.
-    pub rows: Vec<(Shape, f64)>,
+    pub rows: Vec<(GrainKind, f64)>,
     pub columns: Vec<Q>,
     pub checks: Vec<Check>,
 }
@@ -80,7 +80,7 @@ const ROD53_PHI0: [f64; 1] = [0.04];
 pub fn find<'a>(
     study: &Study,
     stats: &'a [CaseStats],
-    shape: Shape,
+    shape: GrainKind,
     phi0: f64,
 ) -> Option<&'a CaseStats> {
     stats.iter().find(|s| {
@@ -130,8 +130,8 @@ fn above(a: MeanErr, t: f64) -> Option<bool> {
     Some(a.mean - 2.0 * a.stderr > t)
 }
 
-fn label(shape: Shape, phi0: f64) -> String {
-    format!("{} {phi0}", shape.name())
+fn label(shape: GrainKind, phi0: f64) -> String {
+    format!("{} {phi0}", shape.display_name())
 }
 
 struct Ctx<'a> {
@@ -140,12 +140,12 @@ struct Ctx<'a> {
 }
 
 impl Ctx<'_> {
-    fn get(&self, shape: Shape, phi0: f64, q: Q) -> Option<MeanErr> {
+    fn get(&self, shape: GrainKind, phi0: f64, q: Q) -> Option<MeanErr> {
         find(self.study, self.stats, shape, phi0).and_then(|s| finite(s.get(q)))
     }
 
     /// `a(shape, pa).q` exceeds `b(shape, pb).q` by more than 2 SE.
-    fn compare(&self, criterion: &str, q: Q, a: (Shape, f64), b: (Shape, f64)) -> Check {
+    fn compare(&self, criterion: &str, q: Q, a: (GrainKind, f64), b: (GrainKind, f64)) -> Check {
         let (ma, mb) = (self.get(a.0, a.1, q), self.get(b.0, b.1, q));
         let evidence = format!(
             "{} {}: {} against {}: {}",
@@ -171,7 +171,7 @@ impl Ctx<'_> {
     fn every(
         &self,
         criterion: &str,
-        shape: Shape,
+        shape: GrainKind,
         phi0s: &[f64],
         qs: &[Q],
         test: &dyn Fn(&CaseStats) -> Option<bool>,
@@ -207,15 +207,15 @@ impl Ctx<'_> {
     }
 }
 
-fn rows(shape: Shape, phi0s: &[f64]) -> Vec<(Shape, f64)> {
+fn rows(shape: GrainKind, phi0s: &[f64]) -> Vec<(GrainKind, f64)> {
     phi0s.iter().map(|&p| (shape, p)).collect()
 }
 
 /// Every finding, checked on the study's baseline cases.
 pub fn findings(study: &Study, stats: &[CaseStats]) -> Vec<Finding> {
     let c = Ctx { study, stats };
-    let sq = Shape::Square;
-    let (long, short_rod) = (Shape::LongRod, Shape::ShortRod);
+    let sq = GrainKind::Square;
+    let (long, short_rod) = (GrainKind::LongRod, GrainKind::ShortRod);
     let peak = |s: &CaseStats, qs: &[Q]| -> Option<bool> {
         let mut all = true;
         for &q in qs {

@@ -15,7 +15,8 @@ use crate::analysis::load_share::{self, LoadShareInput};
 use crate::analysis::pressure::{free_surface, janssen_fit, janssen_saturates};
 use crate::analysis::rdf::{RdfInput, deposit_rdf};
 use crate::analysis::summary::AnalysisParameters;
-use crate::deposit::{LoadOptions, Realisation, Shape, fold_angle, load_realisation};
+use crate::deposit::{LoadOptions, Realisation, fold_angle, load_realisation};
+use crate::grains::GrainKind;
 
 /// Half-width of the angular windows (around 45 degrees, flat, horizontal, vertical, 2 pi/11).
 pub const WINDOW_DEG: f64 = 10.0;
@@ -167,14 +168,14 @@ impl Q {
     }
 
     /// Whether the quantity is measured for grains of this shape.
-    pub fn applies(self, shape: Shape) -> bool {
-        let square = shape == Shape::Square;
+    pub fn applies(self, shape: GrainKind) -> bool {
+        let square = shape == GrainKind::Square;
         match self {
             Q::DiagonalShare | Q::FlatShare | Q::GSqrt2 | Q::GFaceVertex => square,
             Q::HorizontalShare | Q::VerticalShare | Q::Near2Pi11Share | Q::PreferredAngle => {
                 !square
             }
-            Q::G131 | Q::G14 | Q::G163 | Q::G231 | Q::G262 => shape == Shape::ShortRod,
+            Q::G131 | Q::G14 | Q::G163 | Q::G231 | Q::G262 => shape == GrainKind::ShortRod,
             _ => true,
         }
     }
@@ -281,7 +282,7 @@ pub fn measure_realisation(
 }
 
 /// Shares of the grains in the angular windows, and the rods' preferred angle.
-fn orientation(shape: Shape, thetas: &[f64], v: &mut [f64]) {
+fn orientation(shape: GrainKind, thetas: &[f64], v: &mut [f64]) {
     if thetas.is_empty() {
         return;
     }
@@ -289,7 +290,7 @@ fn orientation(shape: Shape, thetas: &[f64], v: &mut [f64]) {
     let window = WINDOW_DEG.to_radians();
     let share =
         |inside: &dyn Fn(f64) -> bool| thetas.iter().filter(|&&t| inside(t)).count() as f64 / n;
-    if shape == Shape::Square {
+    if shape == GrainKind::Square {
         let folded = |t: f64| fold_angle(t, FRAC_PI_2);
         v[Q::DiagonalShare.index()] = share(&|t| (folded(t) - FRAC_PI_2 / 2.0).abs() <= window);
         v[Q::FlatShare.index()] = share(&|t| {
@@ -405,7 +406,7 @@ mod tests {
             deposit,
             contacts: Some(contacts),
             meta,
-            shape: Shape::Square,
+            shape: GrainKind::Square,
         }
     }
 
@@ -462,7 +463,7 @@ mod tests {
         // Squares: two at 45 degrees, one flat (at 88 = -2), one at 20 (neither).
         let deg = |d: f64| d.to_radians();
         orientation(
-            Shape::Square,
+            GrainKind::Square,
             &[deg(45.0), deg(50.0), deg(88.0), deg(20.0)],
             &mut v,
         );
@@ -477,7 +478,7 @@ mod tests {
             deg(5.0),
             deg(178.0),
         ];
-        orientation(Shape::LongRod, &rods, &mut v);
+        orientation(GrainKind::LongRod, &rods, &mut v);
         assert_eq!(v[Q::HorizontalShare.index()], 2.0 / 6.0);
         assert_eq!(v[Q::VerticalShare.index()], 1.0 / 6.0);
         assert_eq!(v[Q::Near2Pi11Share.index()], 3.0 / 6.0);

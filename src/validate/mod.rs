@@ -25,7 +25,6 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use anyhow::Context;
 use rayon::prelude::*;
 
-use crate::deposit::Shape;
 use crate::fill::FillEvent;
 use findings::Verdict;
 use results::Measured;
@@ -167,7 +166,7 @@ fn measure_one(study: &Study, job: &Job) -> anyhow::Result<Measured> {
     Ok(Measured {
         case: job.case,
         seed: job.seed,
-        shape: Shape::from(case.scene.grains.kind),
+        shape: case.scene.grains.kind,
         phi0: case.scene.feed.phi0,
         relaxed: run["relaxed"].as_bool().unwrap_or(false),
         grains: run["grains"].as_u64().unwrap_or(0) as usize,

@@ -157,7 +157,7 @@ fn finding_section(md: &mut String, study: &Study, stats: &[CaseStats], f: &Find
                     md,
                     "| {} ({} {phi0}, {} seeds) | {} |",
                     study.cases[s.case].name,
-                    shape.name(),
+                    shape.display_name(),
                     s.seeds_measured,
                     cells.join(" | ")
                 );
@@ -166,7 +166,7 @@ fn finding_section(md: &mut String, study: &Study, stats: &[CaseStats], f: &Find
                 let _ = writeln!(
                     md,
                     "| {} {phi0}: not measured |{}",
-                    shape.name(),
+                    shape.display_name(),
                     " |".repeat(f.columns.len())
                 );
             }

@@ -8,7 +8,7 @@ use serde_json::{Map, Value, json};
 use super::measures::{Measures, PROFILE_POINTS, PROFILE_STEP_OVER_W, Q};
 use super::study::Study;
 use crate::analysis::stats::MeanErr;
-use crate::deposit::Shape;
+use crate::grains::GrainKind;
 use crate::io::write_atomic;
 
 /// One measured realisation.
@@ -16,7 +16,7 @@ use crate::io::write_atomic;
 pub struct Measured {
     pub case: usize,
     pub seed: u64,
-    pub shape: Shape,
+    pub shape: GrainKind,
     pub phi0: f64,
     pub relaxed: bool,
     pub grains: usize,
@@ -28,7 +28,7 @@ pub struct Measured {
 pub struct CaseStats {
     pub case: usize,
     /// The scene's shape; None when no seed is measured.
-    pub shape: Option<Shape>,
+    pub shape: Option<GrainKind>,
     pub seeds_measured: usize,
     pub unrelaxed: usize,
     /// Per [`Q`], over the seeds where it is finite.
@@ -90,7 +90,7 @@ pub fn write_results_csv(path: &Path, study: &Study, measured: &[Measured]) -> a
             let mut row = vec![
                 study.cases[m.case].name.clone(),
                 m.seed.to_string(),
-                m.shape.name().to_string(),
+                m.shape.display_name().to_string(),
                 number(m.phi0),
                 m.relaxed.to_string(),
                 m.grains.to_string(),

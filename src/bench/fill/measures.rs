@@ -8,7 +8,8 @@ use crate::analysis::orientation::{self, OrientationInput};
 use crate::analysis::pressure::{self, PressureInput};
 use crate::analysis::rdf::{self, RdfInput};
 use crate::analysis::stats::MeanErr;
-use crate::deposit::{Ensemble, Shape};
+use crate::deposit::Ensemble;
+use crate::grains::GrainKind;
 
 /// g(r) is compared for r < this many grain widths D (issue 3).
 pub const RDF_R_MAX: f64 = 4.0;
@@ -79,7 +80,7 @@ impl Measures {
                 .count()
                 .min(g.g.len());
         let w_over_d = input.w_over_d.unwrap_or(match ensemble.shape {
-            Shape::Square => 4.0,
+            GrainKind::Square => 4.0,
             _ => 3.0,
         });
         let p = pressure::compute(

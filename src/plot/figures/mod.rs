@@ -87,7 +87,9 @@ fn at_phi0<'a>(summaries: &[&'a Summary], phi0: f64) -> Vec<(Source, &'a Ensembl
 
 /// The grains' name for titles ("squares", ...).
 fn shape_name(summaries: &[&Summary]) -> &'static str {
-    summaries.first().map_or("grains", |s| s.shape.name())
+    summaries
+        .first()
+        .map_or("grains", |s| s.shape.display_name())
 }
 
 /// `phi0_0.250`: how file names tag a phi0.
