@@ -183,6 +183,21 @@ pub fn draw_deposit(png: &Path, real: &Realisation, source: Source) -> anyhow::R
     })
 }
 
+/// A key's title and, under it, what it measures.
+fn draw_key_heading<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    subtitle: &str,
+    (left, top): (i32, i32),
+) -> anyhow::Result<()> {
+    let font = |size: u32| TextStyle::from(("sans-serif", size).into_font());
+    area.draw(&Text::new(title, (left, top), font(16)))
+        .map_err(plot_error)?;
+    area.draw(&Text::new(subtitle, (left, top + 20), font(13)))
+        .map_err(plot_error)?;
+    Ok(())
+}
+
 /// The colour bar: theta from 0 (bottom) to the period (top), ticks in degrees.
 fn draw_orientation_key<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
@@ -193,14 +208,7 @@ fn draw_orientation_key<DB: DrawingBackend>(
     let font = |size: u32| TextStyle::from(("sans-serif", size).into_font());
     let left = 20;
     let bar = (left, top + 48, 26);
-    area.draw(&Text::new("orientation θ", (left, top), font(16)))
-        .map_err(plot_error)?;
-    area.draw(&Text::new(
-        "(deg from horizontal)",
-        (left, top + 20),
-        font(13),
-    ))
-    .map_err(plot_error)?;
+    draw_key_heading(area, "orientation θ", "(deg from horizontal)", (left, top))?;
     let (bx, by, bw) = bar;
     for row in 0..height {
         // Row 0 is the top: theta = period.
@@ -245,14 +253,7 @@ fn draw_force_key<DB: DrawingBackend>(
 ) -> anyhow::Result<()> {
     let font = |size: u32| TextStyle::from(("sans-serif", size).into_font());
     let left = 20;
-    area.draw(&Text::new("contact force", (left, top), font(16)))
-        .map_err(plot_error)?;
-    area.draw(&Text::new(
-        "(line width ∝ force)",
-        (left, top + 20),
-        font(13),
-    ))
-    .map_err(plot_error)?;
+    draw_key_heading(area, "contact force", "(line width ∝ force)", (left, top))?;
     for (k, times) in [1.0, 2.0, 4.0].into_iter().enumerate() {
         let y = top + 56 + 26 * k as i32;
         let width = (MEAN_FORCE_WIDTH * times).min(MAX_FORCE_WIDTH) as u32;
