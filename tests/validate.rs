@@ -135,6 +135,11 @@ fn a_tiny_study_runs_reports_and_resumes() {
         );
     }
     assert!(report.contains("long rods 0.04: not measured"));
+    // The case table names the grains as every command does.
+    assert!(
+        report.contains("| 60 square |"),
+        "case table names the grains"
+    );
     assert!(report.contains("**not measured**"));
     let verdicts = &outcome.verdicts;
     assert_eq!(verdicts.len(), 5);

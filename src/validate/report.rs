@@ -32,7 +32,11 @@ fn cell(m: MeanErr, asked: usize) -> String {
 }
 
 fn grains(case: &Case) -> String {
-    format!("{} {:?}", case.scene.grains.count, case.scene.grains.kind).to_lowercase()
+    format!(
+        "{} {}",
+        case.scene.grains.count,
+        case.scene.grains.kind.name()
+    )
 }
 
 /// The report's markdown.
