@@ -112,6 +112,98 @@ fn same_named_photographs_are_refused_before_any_detecting() {
     assert!(!out.join("p.csv").exists());
 }
 
+/// Two runs into one --out, of photographs of the same name in different folders: the second
+/// is refused before detecting, the first's table untouched, unless told to overwrite.
+#[test]
+fn a_later_run_never_overwrites_a_same_named_photographs_table() {
+    let dir = tempfile::tempdir().unwrap();
+    let (c1, c2, out) = (
+        dir.path().join("c1"),
+        dir.path().join("c2"),
+        dir.path().join("d"),
+    );
+    std::fs::create_dir_all(&c1).unwrap();
+    std::fs::create_dir_all(&c2).unwrap();
+    std::fs::copy(sample("photos/square-lab-10px.png"), c1.join("p.png")).unwrap();
+    image::GrayImage::from_pixel(300, 200, image::Luma([230]))
+        .save(c2.join("p.png"))
+        .unwrap();
+    let detect = |photo: PathBuf, extra: &[&str]| {
+        facets()
+            .args(["detect", "--shape", "square", "--px-per-mm", "10", "--out"])
+            .arg(&out)
+            .args(extra)
+            .arg(photo)
+            .output()
+            .unwrap()
+    };
+    succeeded(detect(c1.join("p.png"), &[]));
+    let table = out.join("p.csv");
+    let first = std::fs::read_to_string(&table).unwrap();
+    assert!(first.lines().count() > 10, "{first}");
+    for extra in [&[][..], &["--overlay"]] {
+        let o = detect(c2.join("p.png"), extra);
+        let e = stderr(&o);
+        assert!(!o.status.success(), "{e}");
+        assert!(
+            e.contains(&table.display().to_string()) && e.contains("--overwrite"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_to_string(&table).unwrap(), first);
+        assert!(!out.join("p_overlay.png").exists());
+    }
+    succeeded(detect(c2.join("p.png"), &["--overwrite"]));
+    assert_eq!(std::fs::read_to_string(&table).unwrap().lines().count(), 1);
+}
+
+/// Rods are named as everywhere (rod53, rod3) or given by their size; a rod of the
+/// experiment's size is that grain, another size is written as given, and no size is
+/// refused.
+#[test]
+fn a_custom_rod_is_the_size_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let photo = sample("photos/rod53-lab-10px.png");
+    let detect = |out: &str, shape: &[&str]| {
+        let o = facets()
+            .args(["detect", "--px-per-mm", "10", "--shape"])
+            .args(shape)
+            .arg("--out")
+            .arg(dir.path().join(out))
+            .arg(&photo)
+            .output()
+            .unwrap();
+        let table = dir.path().join(out).join("rod53-lab-10px.csv");
+        (o, std::fs::read_to_string(table).ok())
+    };
+    let (_, named) = detect("named", &["rod53"]);
+    let (_, sized) = detect("sized", &["rod", "--length-mm", "4.9", "--width-mm", "3"]);
+    assert!(named.is_some() && named == sized);
+    let (o, custom) = detect("custom", &["rod", "--length-mm", "6", "--width-mm", "2.5"]);
+    let custom = custom.unwrap_or_else(|| panic!("{}", stderr(&o)));
+    let rows: Vec<&str> = custom.lines().skip(1).collect();
+    assert!(!rows.is_empty());
+    for row in rows {
+        let fields: Vec<&str> = row.split(',').collect();
+        assert_eq!(fields[3..5], ["6.0000", "2.5000"], "{row}");
+    }
+    for (shape, expected) in [
+        (&["rod", "--width-mm", "3"][..], "--length-mm"),
+        (
+            &["rod3", "--length-mm", "6"][..],
+            "--shape rod3 has its own",
+        ),
+        (
+            &["square", "--width-mm", "6"][..],
+            "--shape square has its own",
+        ),
+    ] {
+        let (o, table) = detect("refused", shape);
+        let e = stderr(&o);
+        assert!(!o.status.success() && table.is_none(), "{shape:?}: {e}");
+        assert!(e.contains(expected), "{shape:?}: {e}");
+    }
+}
+
 /// A photograph of part of a deposit, detected with its place in the silo, is analysed with
 /// no options: the table is in the silo's coordinates and its sidecar holds the frame given.
 #[test]

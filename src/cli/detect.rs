@@ -6,7 +6,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use facets::deposit::FrameMm;
 use facets::detection::{self, Framing, InSilo, ShapeName, Sought};
-use vision::DetectParams;
+use vision::{DetectParams, ScaleCheck};
 
 use super::shortcuts::ShortcutArgs;
 
@@ -16,7 +16,12 @@ use super::shortcuts::ShortcutArgs;
 folded by symmetry, with confidence and cut columns), NAME_overlay.png with --overlay, and \
 NAME.meta.json (the sidecar `facets analyse` reads) when --phi0 and --silo-width-mm are given. \
 Photographs of the same name (c1/p.png, c2/p.png) would write the same table: such a batch is \
-refused; detect them into different --out folders.\n\n\
+refused, and so is a batch whose tables exist already in --out (an earlier run may have written \
+them from another photograph of the same name) unless --overwrite is given; detect them into \
+different --out folders.\n\n\
+A frame that is no backlit photograph of grains (black, white, saturated, uniform: no bright \
+background, no dark grains, or no contrast above its noise) gets an empty table and a warning \
+saying why, never invented grains.\n\n\
 Examples:\n  facets detect photos/ --shape square --px-per-mm 8 --out detected/ --overlay\n  \
 facets detect p.png --shape rod3 --px-per-mm 10 --phi0 0.25 --silo-width-mm 256 \
 --frame-mm 0,256,290,410 --out detected/"
@@ -26,7 +31,8 @@ pub struct Args {
     #[arg(required = true)]
     pub photos: Vec<PathBuf>,
     /// Grain outline in the photographs: square, rod53, rod3 (the experiment's grains, as in
-    /// every command), or rod with --length-mm for other rods.
+    /// every command), or rod with --length-mm (and --width-mm) for other rods: `rod` alone
+    /// is refused.
     #[arg(long, value_enum)]
     pub shape: ShapeName,
     /// Length of the rods of --shape rod (mm), 1 to 20 widths.
@@ -47,6 +53,17 @@ pub struct Args {
     /// Refuse fits whose agreement with the photograph is below this (0..1).
     #[arg(long, default_value_t = 0.5)]
     pub min_confidence: f64,
+    /// When the scale measured in a photograph (its nuts' holes, its rods' thickness)
+    /// disagrees with --px-per-mm: warn (detect at --px-per-mm and say so, naming both
+    /// scales), refuse (the photograph fails), or off (measure nothing). The default warns:
+    /// blur and low contrast make the measurement err (a blurred 6 px/mm photograph measured
+    /// 1.8 px/mm), and a correct photograph must not be refused.
+    #[arg(long, default_value = "warn", value_name = "warn|refuse|off",
+          value_parser = parse_scale_check)]
+    pub scale_check: ScaleCheck,
+    /// Replace tables, sidecars and overlays that exist already in --out.
+    #[arg(long)]
+    pub overwrite: bool,
     /// phi0 of the rain that built the deposits photographed; with --silo-width-mm, each table
     /// gets its sidecar NAME.meta.json.
     #[arg(long, requires = "silo_width_mm")]
@@ -76,6 +93,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         .shortcuts()
         .apply(DetectParams::new(sought.shape()?, args.px_per_mm * 1e3));
     params.min_confidence = args.min_confidence;
+    params.scale_check = args.scale_check;
     params.validate()?;
     let in_silo = match (args.phi0, args.silo_width_mm) {
         (Some(phi0), Some(silo_width_mm)) => {
@@ -96,6 +114,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bail!("no PNG, TIFF or JPEG photographs found in the paths given");
     }
     let tables = detection::table_paths(&photos, &args.out)?;
+    detection::refuse_existing(&tables, args.overwrite)?;
     std::fs::create_dir_all(&args.out)?;
     let bar = ProgressBar::new(photos.len() as u64).with_style(ProgressStyle::with_template(
         "{bar:40} {pos}/{len} photographs {elapsed_precise}",
@@ -117,10 +136,13 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     let mut failed = 0;
     for (photo, result) in photos.iter().zip(results) {
         match result {
-            Ok(r) if r.grains == 0 => {
-                eprintln!("warning: no grains found in {}", photo.display())
-            }
             Ok(r) => {
+                for warning in &r.warnings {
+                    eprintln!("warning: {}: {warning}", photo.display());
+                }
+                if r.grains == 0 && r.warnings.is_empty() {
+                    eprintln!("warning: {}: no grains found", photo.display());
+                }
                 println!(
                     "{}: {} grains ({} cut by the frame) -> {}",
                     photo.display(),
@@ -151,4 +173,9 @@ pub fn run(args: Args) -> anyhow::Result<()> {
         bail!("{failed} of {} photographs failed", photos.len());
     }
     Ok(())
+}
+
+/// `--scale-check`, read by the library (which names the option and its values).
+fn parse_scale_check(s: &str) -> Result<ScaleCheck, String> {
+    s.parse().map_err(|e: vision::DetectError| e.to_string())
 }

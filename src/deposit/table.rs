@@ -117,6 +117,16 @@ fn csv_error_text(e: &csv::Error) -> String {
 /// any grain carries a confidence.
 pub fn write_deposit_csv(path: &Path, deposit: &Deposit) -> anyhow::Result<()> {
     let detected = deposit.grains.iter().any(|g| g.confidence.is_some());
+    write_table(path, deposit, detected)
+}
+
+/// Writes a detector's table atomically, with its columns (`confidence`, `cut`) even when it
+/// found no grain: an empty photograph's table has the same header as any other.
+pub fn write_detected_csv(path: &Path, deposit: &Deposit) -> anyhow::Result<()> {
+    write_table(path, deposit, true)
+}
+
+fn write_table(path: &Path, deposit: &Deposit, detected: bool) -> anyhow::Result<()> {
     write_atomic(path, |out| {
         let mut w = csv::Writer::from_writer(out);
         let mut header = vec!["x_mm", "y_mm", "theta_rad", "length_mm", "width_mm"];

@@ -14,9 +14,9 @@ use vision::{DetectParams, Detection, detect_report};
 
 pub use in_silo::{Framing, InSilo};
 pub use outline::{DEFAULT_ROD_WIDTH_MM, MAX_ASPECT, ShapeName, Sought};
-pub use photos::{collect_photos, overlay_path, read_photo, stem, table_paths};
+pub use photos::{collect_photos, overlay_path, read_photo, refuse_existing, stem, table_paths};
 
-use crate::deposit::{Deposit, Grain, fold_angle, meta_path, write_deposit_csv, write_meta_json};
+use crate::deposit::{Deposit, Grain, fold_angle, meta_path, write_detected_csv, write_meta_json};
 use crate::io::write_atomic;
 
 /// What one photograph gave.
@@ -31,12 +31,16 @@ pub struct PhotoResult {
     pub explained: Option<f64>,
     /// The detector's wall time step by step ([`vision::Report::phases`]).
     pub phases: vision::Phases,
+    /// What the user should know of this photograph ([`vision::Report::warnings`]): why it
+    /// has no grains, a scale that disagrees with the one measured.
+    pub warnings: Vec<String>,
 }
 
 /// Detects the grains of one photograph and writes its table to `table` (and the overlay to
 /// `overlay` when given). With `in_silo`, the table is in the silo's coordinates (the
 /// photograph's corner added) and its sidecar `NAME.meta.json` is written last, so that a
-/// table with a sidecar is complete. Every error names the file.
+/// table with a sidecar is complete; a photograph with no grains gets its table too, header
+/// only. Every error names the file.
 pub fn detect_photo(
     photo: &Path,
     params: &DetectParams,
@@ -60,7 +64,7 @@ pub fn detect_photo(
         })?;
     }
     let corner = in_silo.map_or([0.0, 0.0], InSilo::corner);
-    write_deposit_csv(table, &shifted(&to_deposit(&found), corner, 1.0))?;
+    write_detected_csv(table, &shifted(&to_deposit(&found), corner, 1.0))?;
     let sidecar = match meta {
         Some(meta) => {
             let path = meta_path(table);
@@ -76,6 +80,7 @@ pub fn detect_photo(
         cut: found.iter().filter(|d| d.cut).count(),
         explained: report.explained,
         phases: report.phases,
+        warnings: report.warnings,
     })
 }
 

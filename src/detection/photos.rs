@@ -5,6 +5,8 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, bail};
 
+use crate::deposit::meta_path;
+
 /// The photographs named: files as given, folders expanded to the PNG/TIFF/JPEG files they
 /// hold (sorted, so a batch runs in a reproducible order).
 pub fn collect_photos(inputs: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
@@ -63,6 +65,33 @@ pub fn table_paths(photos: &[PathBuf], out: &Path) -> anyhow::Result<Vec<PathBuf
         tables.push(table);
     }
     Ok(tables)
+}
+
+/// Refuses, unless `overwrite`, a batch whose outputs exist already (a table, its sidecar or
+/// its overlay): an earlier run into the same folder may have written them from another
+/// photograph of the same name (`c1/p.png` then, in a second run, `c2/p.png`), and nothing
+/// in a table says which photograph it came from. Checked before any detecting.
+pub fn refuse_existing(tables: &[PathBuf], overwrite: bool) -> anyhow::Result<()> {
+    if overwrite {
+        return Ok(());
+    }
+    let existing: Vec<PathBuf> = tables
+        .iter()
+        .flat_map(|t| [t.clone(), meta_path(t), overlay_path(t)])
+        .filter(|p| p.exists())
+        .collect();
+    if let Some(first) = existing.first() {
+        let more = match existing.len() {
+            1 => String::new(),
+            n => format!(" (and {} more outputs of this batch)", n - 1),
+        };
+        bail!(
+            "{} exists already{more}: an earlier run wrote it, perhaps from another photograph \
+             of the same name; give --overwrite to replace it, or another --out folder",
+            first.display()
+        );
+    }
+    Ok(())
 }
 
 /// The overlay beside a table: `<stem>_overlay.png`.

@@ -102,6 +102,12 @@ fn detect_one(
         let overlay = want_overlay.then_some(overlay_path.as_path());
         let result = detect_photo(&photo.path, &params, &table, overlay, Some(&in_silo))?;
         seconds = Some(result.phases.total().as_secs_f64());
+        for warning in &result.warnings {
+            progress(Event::Warning(&format!(
+                "{}: {warning}",
+                photo.path.display()
+            )));
+        }
         let check = "the photograph's shape and px_per_mm in the manifest";
         if let Some(warning) = poorly_explained(&photo.path, result.explained, check) {
             progress(Event::Warning(&warning));

@@ -18,8 +18,8 @@ pub mod packing;
 pub mod render;
 
 pub use detect::{
-    DetectError, DetectParams, Detection, Phases, Report, Shortcuts, WELL_EXPLAINED, detect,
-    detect_report,
+    DetectError, DetectParams, Detection, Phases, Report, ScaleCheck, Shortcuts, WELL_EXPLAINED,
+    detect, detect_report,
 };
 pub use grain::{Frame, GrainOutline, GrainShape};
 pub use outline::ROUNDING_FRACTION;

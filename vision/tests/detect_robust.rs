@@ -5,7 +5,7 @@ mod common;
 
 use common::*;
 use image::{DynamicImage, GrayImage, Luma};
-use vision::{DetectError, DetectParams, detect};
+use vision::{DetectError, DetectParams, ScaleCheck, detect};
 
 #[test]
 fn square_angle_recovered_modulo_quarter_turn() {
@@ -70,13 +70,15 @@ fn empty_photograph_gives_no_grains() {
 }
 
 #[test]
-fn wrong_scale_is_refused_with_the_measured_one() {
+fn wrong_scale_is_refused_on_request_with_the_measured_one() {
     for (shape, scene) in [
         (nut(), square_lattice(0.2, 3, 3)),
         (long_rod(), rod_block(long_rod(), 0.4, 2, 4)),
     ] {
         let image = render(&scene, 10.0, &Style::lab());
-        let err = detect(&image, &DetectParams::new(shape, 4.0 / MM)).unwrap_err();
+        let mut params = DetectParams::new(shape, 4.0 / MM);
+        params.scale_check = ScaleCheck::Refuse;
+        let err = detect(&image, &params).unwrap_err();
         match err {
             DetectError::ImplausibleScale {
                 measured_px_per_mm, ..

@@ -85,6 +85,7 @@ fn the_report_times_each_step_of_the_pipeline() {
             Some(_) => vec!["scale and holes", "normalise", "axis seeds"],
             None => vec!["normalise", "scale and holes", "axis seeds"],
         };
+        expected.insert(0, "levels");
         expected.extend(["residual seeds", "fits", "acceptance"]);
         if is_rod {
             expected.extend(["repair: rows", "repair: outside", "repair: crowded"]);
@@ -107,13 +108,14 @@ fn the_report_times_each_step_of_the_pipeline() {
     }
 }
 
-/// A photograph in tiles at a wrong scale is still refused, with the scale its tiles measured.
+/// A photograph in tiles at a wrong scale is still refused on request, with the scale its tiles measured.
 #[test]
 fn a_wrong_scale_is_refused_in_tiles_too() {
     let scene = rod_block(long_rod(), 0.35, 3, 6);
     let image = render(&scene, 10.0, &Style::lab());
     let mut params = DetectParams::new(scene.shape, 4.0 / MM);
     params.tile_pixels = 20_000;
+    params.scale_check = vision::ScaleCheck::Refuse;
     match detect_report(&image, &params) {
         Err(vision::DetectError::ImplausibleScale {
             measured_px_per_mm, ..

@@ -3,8 +3,12 @@
 //! Grains touch face to face with no visible gap, so dark regions cannot be split by
 //! thresholds or watersheds. Instead the detector knows the grain's outline and fits it:
 //!
+//! 0. `levels`: a frame without both a bright background and dark grains apart by more than
+//!    its noise (black, white, saturated, uniform) is no backlit photograph: no grains, and a
+//!    warning saying why;
 //! 1. `normalise`: divide out the uneven backlight, map to a darkness in [0, 1];
-//! 2. `scale`: check the stated scale against the sizes the photograph shows;
+//! 2. `scale`: check the stated scale against the sizes the photograph shows (a warning by
+//!    default, see [`ScaleCheck`]);
 //! 3. `seeds`: candidate positions: nuts' holes (exact centre cues), rods' axis highlights
 //!    (`ridges`: a point on the axis and its direction), then the deepest points of the dark
 //!    area not yet explained by accepted grains;
@@ -28,6 +32,7 @@
 mod accept;
 mod chains;
 mod fit;
+mod levels;
 mod model;
 mod nearby;
 mod normalise;
@@ -48,6 +53,7 @@ use crate::{GrainOutline, GrainShape};
 
 pub use model::Pose;
 pub use phases::Phases;
+pub use scale::ScaleCheck;
 
 /// Largest photograph accepted, in pixels: its decoded pixels alone take 0.5-1 GB (8 or 16
 /// bits), and a deposit photograph has no reason to be larger.
@@ -82,8 +88,8 @@ pub struct DetectParams {
     /// fitted outside the frame). Without them faster and less accurate (README, "Speed
     /// against accuracy").
     pub repairs: bool,
-    /// Refuse a scale that disagrees with the sizes measured in the photograph.
-    pub check_scale: bool,
+    /// What to do with a scale that disagrees with the sizes measured in the photograph.
+    pub scale_check: ScaleCheck,
     /// Largest photograph accepted, in pixels.
     pub max_pixels: u64,
     /// Photographs with more pixels are processed in overlapping tiles of about this size.
@@ -107,7 +113,7 @@ impl DetectParams {
             },
             finalists: fit::FINALISTS,
             repairs: true,
-            check_scale: true,
+            scale_check: ScaleCheck::default(),
             max_pixels: MAX_PIXELS,
             tile_pixels: TILE_PIXELS,
         }
@@ -164,8 +170,9 @@ pub enum DetectError {
     #[error("invalid detector parameters: {0}")]
     InvalidParams(String),
     #[error(
-        "the scale {given_px_per_mm:.2} px/mm is implausible for these grains: {what} suggests \
-         about {measured_px_per_mm:.2} px/mm (check --px-per-mm and --shape)"
+        "the stated scale {given_px_per_mm:.2} px/mm (--px-per-mm) is implausible for these \
+         grains: {what} suggests about {measured_px_per_mm:.2} px/mm; check --px-per-mm and \
+         --shape, or give --scale-check warn (or off) to detect at the stated scale"
     )]
     ImplausibleScale {
         given_px_per_mm: f64,
@@ -202,6 +209,9 @@ pub struct Report {
     pub explained: Option<f64>,
     /// Wall time of each step of the detector (tiles added up).
     pub phases: Phases,
+    /// What the user should know of this photograph: why it has no grains (`levels`), a
+    /// scale that disagrees with the one measured.
+    pub warnings: Vec<String>,
 }
 
 /// Below this fraction of the dark pixels explained, the outline asked for likely does not
@@ -234,22 +244,28 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
         )));
     }
     let mut phases = Phases::default();
-    if pixels == 0 {
+    let mut warnings = Vec::new();
+    let mut laps = phases::Laps::new(&mut phases);
+    let unusable = levels::Levels::of(image).and_then(|l| l.unusable());
+    laps.lap("levels");
+    if pixels == 0 || unusable.is_some() {
+        warnings.extend(unusable.map(|why| format!("no grains: {why}")));
         return Ok(Report {
             grains: Vec::new(),
             explained: None,
             phases,
+            warnings,
         });
     }
     let (found, dark_area) = if pixels > params.tile_pixels {
-        find_in_tiles(image, params, &mut phases)?
+        find_in_tiles(image, params, &mut phases, &mut warnings)?
     } else {
         find(
             image,
             params,
             [0, 0, width, height],
             &mut phases,
-            params.check_scale,
+            (params.scale_check, &mut warnings),
         )?
     };
     let grains = found
@@ -260,6 +276,7 @@ pub fn detect_report(image: &DynamicImage, params: &DetectParams) -> Result<Repo
         grains,
         explained: dark_area.explained(params),
         phases,
+        warnings,
     })
 }
 
@@ -319,6 +336,7 @@ fn find_in_tiles(
     image: &DynamicImage,
     params: &DetectParams,
     phases: &mut Phases,
+    warnings: &mut Vec<String>,
 ) -> Result<(Vec<accept::Found>, DarkArea), DetectError> {
     let (width, height) = image.dimensions();
     let length_px = params.shape.length() * params.scale;
@@ -341,14 +359,19 @@ fn find_in_tiles(
     // px/mm measured 1.7 px/mm in its corner tile, 10.5 in the other five; test
     // `the_report_times_each_step_of_the_pipeline`). So every tile measures, and the median
     // of their measurements is checked, before any is searched.
-    if params.check_scale {
+    if params.scale_check != ScaleCheck::Off {
         let mut laps = phases::Laps::new(phases);
         let mut measured: Vec<f64> = corners()
             .filter_map(|(x0, y0)| measured_in(&crop(x0, y0).2, params))
             .collect();
         measured.sort_by(f64::total_cmp);
         if let Some(&m) = measured.get(measured.len() / 2) {
-            plausible(params, m)?;
+            warnings.extend(scale::judge(
+                params.shape,
+                params.scale,
+                m,
+                params.scale_check,
+            )?);
         }
         laps.lap("scale and holes");
     }
@@ -361,7 +384,8 @@ fn find_in_tiles(
         // bare field, normalised on its own, may show spurious darkness where the whole
         // photograph shows none: a tile without grains is not counted.
         let core_in_tile = [x0 - tx0, y0 - ty0, x0 + core - tx0, y0 + core - ty0];
-        let (found, in_core) = find(&tile, params, core_in_tile, phases, false)?;
+        let no_check = (ScaleCheck::Off, &mut Vec::new());
+        let (found, in_core) = find(&tile, params, core_in_tile, phases, no_check)?;
         if !found.is_empty() {
             dark_area = dark_area.add(in_core);
         }
@@ -381,13 +405,14 @@ fn find_in_tiles(
 
 /// The grains of one photograph (or tile), in its pixels, and the darkness over `region`
 /// ([x0, y0, x1, y1], pixels) and what of it they leave unexplained; each step's time added
-/// to `phases`; the scale checked against what the photograph shows when `check_scale`.
+/// to `phases`; the scale checked against what the photograph shows as `scale_check` says, its
+/// warning added to the list.
 fn find(
     image: &DynamicImage,
     params: &DetectParams,
     region: [u32; 4],
     phases: &mut Phases,
-    check_scale: bool,
+    (scale_check, warnings): (ScaleCheck, &mut Vec<String>),
 ) -> Result<(Vec<accept::Found>, DarkArea), DetectError> {
     let mut laps = phases::Laps::new(phases);
     let (width, height) = image.dimensions();
@@ -400,9 +425,15 @@ fn find(
         return Ok((Vec::new(), DarkArea::default()));
     }
     let blobs = holes(params, &dark.plane);
-    if check_scale && let Some(measured) = scale::measured_scale(params.shape, &dark.plane, &blobs)
+    if scale_check != ScaleCheck::Off
+        && let Some(measured) = scale::measured_scale(params.shape, &dark.plane, &blobs)
     {
-        plausible(params, measured)?;
+        warnings.extend(scale::judge(
+            params.shape,
+            params.scale,
+            measured,
+            scale_check,
+        )?);
     }
     laps.lap("scale and holes");
     let (found, free) = accept::find_grains(&dark.plane, &blobs, params, &mut laps);
@@ -507,23 +538,6 @@ fn holes(params: &DetectParams, dark: &plane::Plane) -> Vec<seeds::BrightBlob> {
         GrainShape::Square { .. } => seeds::bright_blobs(dark),
         GrainShape::Rod { .. } => Vec::new(),
     }
-}
-
-/// An error when the scale `measured` (pixels per metre) disagrees with the one given.
-fn plausible(params: &DetectParams, measured: f64) -> Result<(), DetectError> {
-    let ratio = measured / params.scale;
-    let (low, high, what) = match params.shape {
-        GrainShape::Square { .. } => (0.75, 1.33, "the size of the nuts' holes"),
-        GrainShape::Rod { .. } => (0.6, 1.7, "the thickness of the dark grains"),
-    };
-    if ratio < low || ratio > high {
-        return Err(DetectError::ImplausibleScale {
-            given_px_per_mm: params.scale * 1e-3,
-            measured_px_per_mm: measured * 1e-3,
-            what,
-        });
-    }
-    Ok(())
 }
 
 fn to_detection(
