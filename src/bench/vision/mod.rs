@@ -298,7 +298,6 @@ fn source_seeds(seed: u64, source: &Source) -> [u64; 3] {
 /// A source's grains under one seed, in frame coordinates, and a line about them.
 fn grains_of(
     source: Source,
-    shape_name: &str,
     shape: GrainShape,
     size: [f64; 2],
     seed: u64,
@@ -322,7 +321,7 @@ fn grains_of(
                 .map(|g| g.shape.length() * g.shape.width())
                 .sum();
             let line = format!(
-                "| {shape_name} | {} | window x {:.1}-{:.1} mm, y {:.1}-{:.1} mm | {} ({} cut) | {:.3} (centres in the window) | {:.2} |",
+                "| {} | window x {:.1}-{:.1} mm, y {:.1}-{:.1} mm | {} ({} cut) | {:.3} (centres in the window) | {:.2} |",
                 source.name(),
                 region.x0 * 1e3,
                 (region.x0 + region.width) * 1e3,
@@ -338,7 +337,7 @@ fn grains_of(
         Source::Packing(packing) => {
             let packed = generate(shape, packing, &frame, seed);
             let line = format!(
-                "| {shape_name} | {} | deepest overlap {:.2} % of D, {:.1} % touching | {} ({} cut) | {:.3} (periodic box, holes counted) | {:.2} |",
+                "| {} | deepest overlap {:.2} % of D, {:.1} % touching | {} ({} cut) | {:.3} (periodic box, holes counted) | {:.2} |",
                 source.name(),
                 100.0 * packed.max_overlap,
                 100.0 * packed.touching_fraction,
@@ -360,7 +359,7 @@ pub fn run(bench: &VisionBench, progress: &dyn Fn(VisionEvent)) -> anyhow::Resul
     let mut looks = Vec::new();
     let mut refusals = Vec::new();
     let mut sources = String::from(
-        "| shape | source | window or packing | grains (cut) | area fraction | seconds |\n|---|---|---|---|---|---|\n",
+        "| shape | seed | source | window or packing | grains (cut) | area fraction | seconds |\n|---|---|---|---|---|---|---|\n",
     );
     for (shape_name, shape) in bench.chosen_shapes() {
         for &number in &bench.seeds.0 {
@@ -372,9 +371,8 @@ pub fn run(bench: &VisionBench, progress: &dyn Fn(VisionEvent)) -> anyhow::Resul
                     seed: number,
                 });
                 let [grains_seed, look_seed, photo_seed] = source_seeds(seed, &source);
-                let (grains, line) =
-                    grains_of(source, shape_name, shape, bench.frame, grains_seed)?;
-                let _ = writeln!(sources, "{line}");
+                let (grains, line) = grains_of(source, shape, bench.frame, grains_seed)?;
+                let _ = writeln!(sources, "| {shape_name} | {number} {line}");
                 for &look_range in &bench.looks {
                     let look = Look::draw(look_range, look_seed);
                     for &px_per_mm in &bench.px_per_mm {
