@@ -32,4 +32,6 @@ pub use meta::{
     DepositMeta, FrameMm, Source, contacts_path, meta_path, read_meta_json, write_meta_json,
 };
 pub use synthetic::jittered_lattice;
-pub use table::{Deposit, read_deposit_csv, write_deposit_csv, write_detected_csv};
+pub use table::{
+    Deposit, parse_deposit_text, read_deposit_csv, write_deposit_csv, write_detected_csv,
+};

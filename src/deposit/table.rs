@@ -36,6 +36,11 @@ pub fn read_deposit_csv(path: &Path) -> anyhow::Result<Deposit> {
     parse_deposit_csv(file).with_context(|| format!("in deposit table {}", path.display()))
 }
 
+/// Reads a deposit table held in memory; errors name it `name`, the line and the field.
+pub fn parse_deposit_text(text: &str, name: &str) -> anyhow::Result<Deposit> {
+    parse_deposit_csv(text.as_bytes()).with_context(|| format!("in deposit table {name}"))
+}
+
 fn parse_deposit_csv<R: Read>(input: R) -> anyhow::Result<Deposit> {
     let mut reader = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)

@@ -97,3 +97,36 @@ fn same_seed_same_photograph_whatever_the_threads() {
     assert_eq!(one, on(3));
     assert_ne!(one, render(&grains, &f, &Style::lab(), 10));
 }
+
+#[test]
+fn the_bore_narrows_with_its_scale_and_its_chamfer_glints() {
+    let f = frame();
+    let quiet = Style {
+        full_well: 0.0,
+        read_noise: 0.0,
+        dust_per_cm2: 0.0,
+        scratches_per_100cm2: 0.0,
+        blur_px: 0.0,
+        ..Style::clean()
+    };
+    let g = nut(0.012, 0.01);
+    // The nominal bore is 3.3 mm: 1.5 mm from the centre is open, unless the bore is 80 %.
+    let at_1p5 = |style: &Style| level(&render(&[g], &f, style, 1), &f, 0.012 + 1.5e-3, 0.01);
+    let field = level(&render(&[g], &f, &quiet, 1), &f, 0.025, 0.01);
+    assert!(at_1p5(&quiet) > 0.8 * field);
+    let narrow = Style {
+        bore_scale: 0.8,
+        ..quiet.clone()
+    };
+    assert!(at_1p5(&narrow) < 0.1 * field);
+    // A 0.5 mm chamfer glinting at half the field: grey between 1.65 and 2.15 mm.
+    let glint = Style {
+        chamfer_mm: 0.5,
+        chamfer_glint: 0.5,
+        ..quiet.clone()
+    };
+    let ring = |style: &Style| level(&render(&[g], &f, style, 1), &f, 0.012 + 1.9e-3, 0.01);
+    let (plain, grey) = (ring(&quiet), ring(&glint));
+    assert!(plain < 0.1 * field, "{plain} {field}");
+    assert!((grey - 0.5 * field).abs() < 0.1 * field, "{grey} {field}");
+}

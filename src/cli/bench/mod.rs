@@ -16,8 +16,9 @@ pub enum Bench {
     Engine(engine::Args),
     // Takes its help (with the list of scenes, settings and outputs) from its Args' docs.
     Fill(fill::Args),
-    /// Detector accuracy (recall, precision, centre and orientation RMS) and time per
-    /// photograph on rendered dense packings of every shape, scale and style.
+    /// Detector accuracy (recall, precision, centre and orientation RMS), time and memory per
+    /// photograph on rendered simulated deposits and dense packings, in looks drawn at random
+    /// from seeds of a tuning or a held-out split.
     Vision(vision::Args),
 }
 

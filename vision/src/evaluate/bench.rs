@@ -1,16 +1,17 @@
-//! The vision benchmark: dense packings of each shape, photographed at several scales and in
-//! several styles, detected, and scored against the truth.
+//! The vision benchmark's photograph: grains in a frame, drawn in a look, stored as its file
+//! stores it, detected, and scored against the truth.
 
 use std::time::Instant;
 
-use crate::detect::{DetectError, DetectParams, Phases, Shortcuts, detect_report};
-use crate::packing::{PackedFrame, Packing};
-use crate::render::{Style, render};
-use crate::{Frame, GrainShape};
+use crate::detect::{DetectParams, Phases, Report, Shortcuts, detect_report};
+use crate::packing::PackedFrame;
+use crate::render::Look;
+use crate::{Frame, GrainOutline, GrainShape};
 
-use super::{Tally, Truth, score};
+use super::{Tally, Truth, memory, score_with_errors};
 
-/// Frame of the benchmark photographs: the full silo width by the 120 mm analysed band.
+/// Frame of the packings' photographs in the detector's tests: the full silo width by the
+/// 120 mm analysed band.
 pub const FRAME_WIDTH: f64 = 0.258;
 pub const FRAME_HEIGHT: f64 = 0.120;
 
@@ -37,12 +38,15 @@ pub fn shapes() -> [(&'static str, GrainShape); 3] {
 
 /// One photograph of the benchmark.
 #[derive(Clone, Debug)]
-pub struct Case {
-    pub shape_name: &'static str,
+pub struct Photo<'a> {
+    /// The grains that show in the frame (frame coordinates).
+    pub grains: &'a [GrainOutline],
+    /// The frame and its scale.
+    pub frame: Frame,
+    /// The grain the detector is told to look for.
     pub shape: GrainShape,
-    pub packing: Packing,
-    pub px_per_mm: f64,
-    pub style_name: &'static str,
+    pub look: &'a Look,
+    /// Seed of the noise, dust and light.
     pub seed: u64,
     /// What the detector leaves out (none by default).
     pub shortcuts: Shortcuts,
@@ -52,18 +56,35 @@ pub struct Case {
 #[derive(Clone, Debug)]
 pub struct Outcome {
     pub tally: Tally,
+    /// Orientation error of every matched uncut grain (degrees, signed).
+    pub orientation_errors_deg: Vec<f64>,
     /// Wall time of the detector alone (seconds).
     pub detect_seconds: f64,
     /// The detector's time step by step.
     pub phases: Phases,
-    /// Wall time of rendering the photograph (seconds).
+    /// Wall time of rendering and storing the photograph (seconds).
     pub render_seconds: f64,
+    /// The process's peak resident memory during the detection (bytes; [`memory`] says what
+    /// it counts), where the system tells it.
+    pub peak_memory_bytes: Option<u64>,
+    /// Why the detector refused the photograph, if it did (then it found nothing).
+    pub refused: Option<String>,
 }
+
+/// Why a photograph of the benchmark gave no outcome: it could not be stored as its look
+/// asks. (A photograph the detector refuses is an outcome: nothing found.)
+#[derive(Debug, thiserror::Error)]
+#[error("storing the photograph as its look asks: {0}")]
+pub struct StoreError(#[from] image::ImageError);
 
 /// The true grains of a packing as a photograph of `frame` shows them.
 pub fn truth_in_frame(packed: &PackedFrame, frame: &Frame) -> Vec<Truth> {
-    packed
-        .grains
+    truth_of(&packed.grains, frame)
+}
+
+/// The true grains among `grains` that a photograph of `frame` shows.
+pub fn truth_of(grains: &[GrainOutline], frame: &Frame) -> Vec<Truth> {
+    grains
         .iter()
         .filter(|g| g.overlaps_frame(frame))
         .map(|g| Truth {
@@ -73,28 +94,42 @@ pub fn truth_in_frame(packed: &PackedFrame, frame: &Frame) -> Vec<Truth> {
         .collect()
 }
 
-/// Renders the case's photograph of `packed`, detects, and scores.
-pub fn run_case(case: &Case, packed: &PackedFrame) -> Result<Outcome, DetectError> {
-    let frame = Frame {
-        width: FRAME_WIDTH,
-        height: FRAME_HEIGHT,
-        scale: case.px_per_mm * 1e3,
-    };
-    let style = Style::named(case.style_name).unwrap_or_else(Style::lab);
+/// Renders and stores the photograph, detects, and scores.
+pub fn run_photo(photo: &Photo) -> Result<Outcome, StoreError> {
     let start = Instant::now();
-    let photo = render(&packed.grains, &frame, &style, case.seed).to_image(16);
+    let image = photo
+        .look
+        .photograph(photo.grains, &photo.frame, photo.seed)?;
     let render_seconds = start.elapsed().as_secs_f64();
     // The defaults of this shape (not `Default`'s, which are the nuts').
-    let params = case
+    let params = photo
         .shortcuts
-        .apply(DetectParams::new(case.shape, frame.scale));
+        .apply(DetectParams::new(photo.shape, photo.frame.scale));
+    let measured = memory::reset_peak();
     let start = Instant::now();
-    let report = detect_report(&photo, &params)?;
+    let detected = detect_report(&image, &params);
     let detect_seconds = start.elapsed().as_secs_f64();
+    let peak_memory_bytes = memory::peak_bytes().filter(|_| measured);
+    let (report, refused) = match detected {
+        Ok(report) => (report, None),
+        Err(e) => (
+            Report {
+                grains: Vec::new(),
+                explained: None,
+                phases: Phases::default(),
+            },
+            Some(e.to_string()),
+        ),
+    };
+    let (tally, orientation_errors_deg) =
+        score_with_errors(&truth_of(photo.grains, &photo.frame), &report.grains);
     Ok(Outcome {
-        tally: score(&truth_in_frame(packed, &frame), &report.grains),
+        tally,
+        orientation_errors_deg,
         detect_seconds,
         phases: report.phases,
         render_seconds,
+        peak_memory_bytes,
+        refused,
     })
 }

@@ -15,6 +15,7 @@
 
 pub mod bench;
 pub mod matching;
+pub mod memory;
 
 use crate::GrainOutline;
 use crate::detect::Detection;
@@ -106,7 +107,15 @@ pub struct Truth {
 
 /// Matches the detections of one photograph to its true grains and tallies the result.
 pub fn score(truth: &[Truth], detections: &[Detection]) -> Tally {
+    score_with_errors(truth, detections).0
+}
+
+/// [`score`], with the orientation error of every matched pair whose true grain is uncut
+/// (degrees, signed, modulo the shape's symmetry, in the order of the true grains): the pairs
+/// of the orientation RMS, for medians and other quantiles.
+pub fn score_with_errors(truth: &[Truth], detections: &[Detection]) -> (Tally, Vec<f64>) {
     let mut tally = Tally::default();
+    let mut errors = Vec::new();
     let Some(width) = truth
         .iter()
         .map(|t| t.outline.shape.width())
@@ -114,7 +123,7 @@ pub fn score(truth: &[Truth], detections: &[Detection]) -> Tally {
     else {
         tally.detections_uncut = detections.iter().filter(|d| !d.cut).count();
         tally.detections_cut = detections.len() - tally.detections_uncut;
-        return tally;
+        return (tally, errors);
     };
     let truth_centres: Vec<[f64; 2]> = truth.iter().map(|t| [t.outline.x, t.outline.y]).collect();
     let detected: Vec<[f64; 2]> = detections
@@ -138,6 +147,7 @@ pub fn score(truth: &[Truth], detections: &[Detection]) -> Tally {
                 period,
             );
             tally.angle_sq_sum += e * e;
+            errors.push(e.to_degrees());
             if e.abs().to_degrees() > TURNED_DEG {
                 tally.turned += 1;
             } else {
@@ -154,5 +164,16 @@ pub fn score(truth: &[Truth], detections: &[Detection]) -> Tally {
             tally.detections_uncut_matched += usize::from(matched);
         }
     }
-    tally
+    (tally, errors)
+}
+
+/// Median of the absolute values (NaN when empty).
+pub fn median_abs(values: &[f64]) -> f64 {
+    let mut v: Vec<f64> = values.iter().map(|x| x.abs()).collect();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
 }

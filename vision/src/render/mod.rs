@@ -10,8 +10,10 @@
 mod blur;
 mod glass;
 mod light;
+mod look;
 mod style;
 
+pub use look::{Look, LookRange};
 pub use style::Style;
 
 use image::{DynamicImage, GrayImage, ImageBuffer, Luma};
@@ -70,6 +72,9 @@ struct Stamp {
     outline: GrainOutline,
     axes: ([f64; 2], [f64; 2]),
     hole_radius: f64,
+    /// Outer radius of the bore's chamfer ring, and how much of the light the ring sends back.
+    chamfer_radius: f64,
+    chamfer_glint: f64,
     /// Peak of the axis highlight (rods), and its standard deviation across the axis (metres).
     highlight: f64,
     highlight_sigma: f64,
@@ -98,7 +103,9 @@ pub fn render(grains: &[GrainOutline], frame: &Frame, style: &Style, seed: u64) 
         .map(|g| Stamp {
             outline: *g,
             axes: g.axes(),
-            hole_radius: g.hole_radius(),
+            hole_radius: style.bore_scale * g.hole_radius(),
+            chamfer_radius: style.bore_scale * g.hole_radius() + style.chamfer_mm * 1e-3,
+            chamfer_glint: style.chamfer_glint,
             highlight: match g.shape {
                 GrainShape::Rod { .. } => style.rod_highlight,
                 GrainShape::Square { .. } => 0.0,
@@ -188,8 +195,13 @@ fn grain_blocking(s: &Stamp, x: f64, y: f64, scale: f64) -> f64 {
         return 0.0;
     }
     if s.hole_radius > 0.0 {
-        let hole = (0.5 - ((lx * lx + ly * ly).sqrt() - s.hole_radius) * scale).clamp(0.0, 1.0);
+        let radius = (lx * lx + ly * ly).sqrt();
+        let hole = (0.5 - (radius - s.hole_radius) * scale).clamp(0.0, 1.0);
         coverage = (coverage - hole).max(0.0);
+        if s.chamfer_glint > 0.0 && s.chamfer_radius > s.hole_radius {
+            let disc = (0.5 - (radius - s.chamfer_radius) * scale).clamp(0.0, 1.0);
+            coverage *= 1.0 - s.chamfer_glint * (disc - hole).max(0.0);
+        }
     }
     if s.highlight > 0.0 {
         let across = ly / s.highlight_sigma;

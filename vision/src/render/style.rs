@@ -1,4 +1,5 @@
-//! How a photograph looks: light, optics, sensor and glass, as one struct with three presets.
+//! How a photograph looks: light, optics, sensor, glass and the nuts' bores, as one struct with
+//! three presets (`look` draws it at random instead).
 
 /// Rendering style. Levels are fractions of the sensor's full scale; sizes on the glass are in
 /// millimetres; optical blur is in pixels (it belongs to the lens and sensor, not the deposit).
@@ -42,6 +43,15 @@ pub struct Style {
     pub scratch_width_mm: f64,
     /// How much light a scratch scatters away (0..1).
     pub scratch_opacity: f64,
+    /// Diameter of the light a nut's bore lets through, as a fraction of the nominal bore
+    /// (`GrainShape::Square::hole_diameter`): below 1 where thread crests or the parallax of a
+    /// lens that is not telecentric narrow it, above 1 for a bore worn or drilled out.
+    pub bore_scale: f64,
+    /// Width of the chamfer around a nut's bore (mm), seen as a grey ring where front or stray
+    /// light glints off its slope (0 for none).
+    pub chamfer_mm: f64,
+    /// Brightness of that ring, as a fraction of the local field (0..1).
+    pub chamfer_glint: f64,
 }
 
 impl Style {
@@ -65,6 +75,9 @@ impl Style {
             scratch_length_mm: 15.0,
             scratch_width_mm: 0.05,
             scratch_opacity: 0.15,
+            bore_scale: 1.0,
+            chamfer_mm: 0.0,
+            chamfer_glint: 0.0,
         }
     }
 
@@ -89,6 +102,9 @@ impl Style {
             scratch_length_mm: 25.0,
             scratch_width_mm: 0.08,
             scratch_opacity: 0.25,
+            bore_scale: 1.0,
+            chamfer_mm: 0.0,
+            chamfer_glint: 0.0,
         }
     }
 
@@ -112,6 +128,9 @@ impl Style {
             scratch_length_mm: 40.0,
             scratch_width_mm: 0.12,
             scratch_opacity: 0.35,
+            bore_scale: 1.0,
+            chamfer_mm: 0.0,
+            chamfer_glint: 0.0,
         }
     }
 
