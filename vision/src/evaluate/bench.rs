@@ -117,6 +117,7 @@ pub fn run_photo(photo: &Photo) -> Result<Outcome, StoreError> {
                 grains: Vec::new(),
                 explained: None,
                 phases: Phases::default(),
+                warnings: Vec::new(),
             },
             Some(e.to_string()),
         ),
