@@ -409,7 +409,16 @@ fn vertex_against_core(
     if centre_squared >= reach * reach {
         return Verdict::Beyond { centre_squared };
     }
+    // The core's arrays cut to its length once: indexing them by an edge below then needs
+    // no bounds check.
     let n = core.len();
+    let (vertices, directions, lengths) =
+        (core.vertices, &core.directions[..n], &core.lengths[..n]);
+    let normal = |e: usize| {
+        let d = directions[e];
+        Vec2::new(d.y, -d.x)
+    };
+    let previous = |e: usize| if e == 0 { n - 1 } else { e - 1 };
 
     // Signed distance from each edge line. The distance to a convex core is at least the
     // largest of them, so one beyond the cutoff rules the vertex out: most vertices of a pair
@@ -419,7 +428,7 @@ fn vertex_against_core(
     let mut nearest_edge = 0;
     let mut nearest_distance = f64::NEG_INFINITY;
     for e in 0..n {
-        let s = (p - core.vertices[e]).dot(&core.normal(e));
+        let s = (p - vertices[e]).dot(&normal(e));
         if s >= cutoff {
             return Verdict::BehindEdge { signed: s };
         }
@@ -436,12 +445,12 @@ fn vertex_against_core(
         // outline: a corner that came in past the end of a face of equal width (rods meeting
         // end-on) glides along the lines of the sides, and pushed out through a side it would
         // be squeezed from both and held there.
-        let distance_to = |e: usize| (p - core.vertices[e]).dot(&core.normal(e));
+        let distance_to = |e: usize| (p - vertices[e]).dot(&normal(e));
         let edge = match preferred_entry() {
             Some(Entry::Edge(e)) if e < n => e,
             // In from a corner: through whichever of its two edges it lies deeper behind.
             Some(Entry::Corner(m)) if m < n => {
-                let before = core.previous(m);
+                let before = previous(m);
                 if distance_to(before) < distance_to(m) {
                     before
                 } else {
@@ -450,7 +459,7 @@ fn vertex_against_core(
             }
             _ => nearest_edge,
         };
-        let normal = core.normal(edge);
+        let normal = normal(edge);
         let distance = distance_to(edge);
         emit(Touch {
             foot: Foot::Edge(edge),
@@ -463,26 +472,26 @@ fn vertex_against_core(
 
     let (owner_in, owner_out) = (owner.directions[owner.previous(k)], owner.directions[k]);
     for e in 0..n {
-        let a = core.vertices[e];
+        let a = vertices[e];
         let rel = p - a;
-        let along = rel.dot(&core.directions[e]);
-        if along > 0.0 && along < core.lengths[e] {
+        let along = rel.dot(&directions[e]);
+        if along > 0.0 && along < lengths[e] {
             let s = if e < signed.len() {
                 signed[e]
             } else {
-                rel.dot(&core.normal(e))
+                rel.dot(&normal(e))
             };
             if s >= 0.0 {
                 emit(Touch {
                     foot: Foot::Edge(e),
-                    normal: core.normal(e),
+                    normal: normal(e),
                     distance: s,
-                    closest: a + core.directions[e] * along,
+                    closest: a + directions[e] * along,
                 });
             }
         } else if along <= 0.0 && vertex_vertex {
             // p lies in the vertex region of a, and a in the vertex region of p.
-            let core_in = core.directions[core.previous(e)];
+            let core_in = directions[previous(e)];
             let mutual = rel.dot(&core_in) >= 0.0
                 && (-rel).dot(&owner_out) <= 0.0
                 && (-rel).dot(&owner_in) >= 0.0;
@@ -492,7 +501,7 @@ fn vertex_against_core(
                 let normal = if distance > 1e-9 * cutoff {
                     rel / distance
                 } else {
-                    (core.normal(core.previous(e)) + core.normal(e)).normalize()
+                    (normal(previous(e)) + normal(e)).normalize()
                 };
                 emit(Touch {
                     foot: Foot::Vertex(e),
