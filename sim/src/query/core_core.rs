@@ -122,10 +122,7 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
     mut verdict: impl FnMut(bool, usize, Verdict),
 ) {
     let cutoff = first.radius + second.radius;
-    for k in 0..first.len() {
-        if !among.contains(true, k) {
-            continue;
-        }
+    for k in among.members(true, first.len()) {
         let preferred = || entry(first, k, second, &previous);
         let seen = vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
@@ -151,10 +148,7 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
         });
         verdict(true, k, seen);
     }
-    for m in 0..second.len() {
-        if !among.contains(false, m) {
-            continue;
-        }
+    for m in among.members(false, second.len()) {
         let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
         let seen = vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
             let Foot::Edge(e) = touch.foot else { return };

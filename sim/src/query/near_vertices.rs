@@ -32,10 +32,18 @@ impl NearVertices {
         second: u8::MAX,
     };
 
+    /// The near vertices of a core of `len` vertices (the first core's with `of_first`), in
+    /// increasing order: the narrow phase steps from one to the next without looking at the
+    /// others.
     #[inline(always)]
-    pub fn contains(self, of_first: bool, k: usize) -> bool {
+    pub fn members(self, of_first: bool, len: usize) -> Members {
         let bits = if of_first { self.first } else { self.second };
-        k >= 8 || bits & (1 << k) != 0
+        let within = if len >= 8 { u8::MAX } else { (1u8 << len) - 1 };
+        Members {
+            bits: bits & within,
+            past_eighth: 8,
+            len,
+        }
     }
 
     pub fn insert(&mut self, of_first: bool, k: usize) {
@@ -46,6 +54,32 @@ impl NearVertices {
                 &mut self.second
             };
             *bits |= 1 << k;
+        }
+    }
+}
+
+/// The vertices of [`NearVertices::members`]: the set bits, then every vertex past the
+/// eighth.
+pub struct Members {
+    bits: u8,
+    past_eighth: usize,
+    len: usize,
+}
+
+impl Iterator for Members {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.bits != 0 {
+            let k = self.bits.trailing_zeros() as usize;
+            self.bits &= self.bits - 1;
+            Some(k)
+        } else if self.past_eighth < self.len {
+            self.past_eighth += 1;
+            Some(self.past_eighth - 1)
+        } else {
+            None
         }
     }
 }
