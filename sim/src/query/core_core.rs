@@ -1,6 +1,8 @@
 use smallvec::SmallVec;
 
-use super::near_vertices::{NEAR_WITHIN, NearVertices, RECHECK_AFTER, Verdict};
+use super::near_vertices::{
+    Members, NEAR_WITHIN, NearVertices, RECHECK_AFTER, Verdict, edge_clearance,
+};
 use super::{Features, PlacedCore, SubContact, WeightGradient};
 use crate::math::{Vec2, cross, perp};
 
@@ -94,6 +96,25 @@ pub fn core_core_sub_contacts_and_near<I: Iterator<Item = Features>>(
             }
         },
     );
+    // The edges the near vertices may touch: the others are certified out of their reach
+    // like the vertices far from the other core.
+    for (of_first, owner, core) in [(true, first, second), (false, second, first)] {
+        for e in 0..core.len() {
+            let a = core.vertices[e];
+            let margin = near
+                .members(of_first, owner.len())
+                .map(|k| {
+                    let rel = owner.vertices[k] - a;
+                    edge_clearance(core, cutoff, rel.dot(&core.normal(e)), rel.norm())
+                })
+                .fold(f64::INFINITY, f64::min);
+            if margin < NEAR_WITHIN * cutoff {
+                near.insert_edge(of_first, e);
+            } else {
+                clearance = clearance.min(margin);
+            }
+        }
+    }
     (near, clearance)
 }
 
@@ -122,9 +143,10 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
     mut verdict: impl FnMut(bool, usize, Verdict),
 ) {
     let cutoff = first.radius + second.radius;
+    let edges = among.edges_against(true, second.len());
     for k in among.members(true, first.len()) {
         let preferred = || entry(first, k, second, &previous);
-        let seen = vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
+        let seen = vertex_against_core(first, k, second, edges, cutoff, true, preferred, |touch| {
             let features = match touch.foot {
                 Foot::Edge(e) => Features::VertexEdge {
                     vertex: k as u8,
@@ -148,24 +170,26 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
         });
         verdict(true, k, seen);
     }
+    let edges = among.edges_against(false, first.len());
     for m in among.members(false, second.len()) {
         let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
-        let seen = vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
-            let Foot::Edge(e) = touch.foot else { return };
-            let p = second.vertices[m];
-            out.push(SubContact {
-                features: Features::EdgeVertex {
-                    edge: e as u8,
-                    vertex: m as u8,
-                },
-                normal: -touch.normal,
-                overlap: cutoff - touch.distance,
-                point: (p + touch.closest) / 2.0
-                    + touch.normal * ((first.radius - second.radius) / 2.0),
-                weight: 1.0,
-                weight_gradient: WeightGradient::ZERO,
+        let seen =
+            vertex_against_core(second, m, first, edges, cutoff, false, preferred, |touch| {
+                let Foot::Edge(e) = touch.foot else { return };
+                let p = second.vertices[m];
+                out.push(SubContact {
+                    features: Features::EdgeVertex {
+                        edge: e as u8,
+                        vertex: m as u8,
+                    },
+                    normal: -touch.normal,
+                    overlap: cutoff - touch.distance,
+                    point: (p + touch.closest) / 2.0
+                        + touch.normal * ((first.radius - second.radius) / 2.0),
+                    weight: 1.0,
+                    weight_gradient: WeightGradient::ZERO,
+                });
             });
-        });
         verdict(false, m, seen);
     }
     share_close_corners(first, second, out);
@@ -385,12 +409,16 @@ pub fn feature_overlap(first: &PlacedCore, second: &PlacedCore, features: Featur
 }
 
 /// Vertex k of `owner` against `core`: calls `emit` for each touch within `cutoff`, and
-/// tells how it ended.
+/// tells how it ended. Only the core's `edges` are looked at, the others being certified to
+/// give nothing (see [`NearVertices`]), except for a vertex that may lie inside the core,
+/// whose nearest edge is looked for among all.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn vertex_against_core(
     owner: &PlacedCore,
     k: usize,
     core: &PlacedCore,
+    edges: Members,
     cutoff: f64,
     vertex_vertex: bool,
     preferred_entry: impl FnOnce() -> Option<Entry>,
@@ -419,20 +447,38 @@ fn vertex_against_core(
     // face away from the other grain and stop here after an edge or two.
     // Kept for the second loop (most cores have few vertices).
     let mut signed = [0.0f64; 8];
-    let mut nearest_edge = 0;
-    let mut nearest_distance = f64::NEG_INFINITY;
-    for e in 0..n {
-        let s = (p - vertices[e]).dot(&normal(e));
-        if s >= cutoff {
-            return Verdict::BehindEdge { signed: s };
+    // The nearest edge line (the largest signed distance), or the signed distance from the
+    // first line found beyond the cutoff.
+    let edge_lines = |edges: Members, signed: &mut [f64; 8]| {
+        let mut nearest_edge = 0;
+        let mut nearest_distance = f64::NEG_INFINITY;
+        for e in edges {
+            let s = (p - vertices[e]).dot(&normal(e));
+            if s >= cutoff {
+                return Err(s);
+            }
+            if e < signed.len() {
+                signed[e] = s;
+            }
+            if s > nearest_distance {
+                nearest_distance = s;
+                nearest_edge = e;
+            }
         }
-        if e < signed.len() {
-            signed[e] = s;
-        }
-        if s > nearest_distance {
-            nearest_distance = s;
-            nearest_edge = e;
-        }
+        Ok((nearest_edge, nearest_distance))
+    };
+    let (mut nearest_edge, mut nearest_distance) = match edge_lines(edges, &mut signed) {
+        Ok(nearest) => nearest,
+        Err(signed) => return Verdict::BehindEdge { signed },
+    };
+    // The edges left out have the vertex on the inner side of their lines: a vertex outside
+    // the core by the edges looked at is outside it, nearest one of them; one that may lie
+    // inside has its nearest edge looked for among all.
+    if nearest_distance <= INSIDE * cutoff && !edges.is_all() {
+        (nearest_edge, nearest_distance) = match edge_lines(Members::of(u8::MAX, n), &mut signed) {
+            Ok(nearest) => nearest,
+            Err(signed) => return Verdict::BehindEdge { signed },
+        };
     }
     if nearest_distance <= INSIDE * cutoff {
         // Inside the core (every edge line has the vertex on its inner side), or on its
@@ -465,7 +511,7 @@ fn vertex_against_core(
     }
 
     let (owner_in, owner_out) = (owner.directions[owner.previous(k)], owner.directions[k]);
-    for e in 0..n {
+    for e in edges {
         let a = vertices[e];
         let rel = p - a;
         let along = rel.dot(&directions[e]);
@@ -579,7 +625,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut checked, mut skipped, mut expired) = (0, 0, 0);
+        let (mut checked, mut skipped, mut skipped_edges, mut expired) = (0, 0, 0, 0);
         for trial in 0..2000 {
             let (a, b) = (&shapes[trial % 2], &shapes[(trial / 2) % 2]);
             let reach = a.bounding_radius() + b.bounding_radius();
@@ -644,10 +690,18 @@ mod tests {
                 assert_eq!(all, some, "trial {trial}, {near:?}, clearance {clearance}");
                 checked += 1;
                 skipped += 8 - (near.first.count_ones() + near.second.count_ones()) as usize;
+                skipped_edges +=
+                    8 - (near.first_edges.count_ones() + near.second_edges.count_ones()) as usize;
             }
         }
-        // The check saw many steps, vertices left out, and the clearance run out.
-        assert!(checked > 1000 && skipped > 4 * checked && expired == 2000);
+        // The check saw many steps, vertices and edges left out, and the clearance run out.
+        assert!(
+            checked > 1000
+                && skipped > 4 * checked
+                && skipped_edges > 2 * checked
+                && expired == 2000,
+            "{checked} steps, {skipped} vertices and {skipped_edges} edges left out"
+        );
     }
 
     fn square() -> Spheropolygon {
