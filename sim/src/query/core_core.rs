@@ -282,6 +282,7 @@ fn share_close_corners(
         return;
     }
     let zone = (first.radius + second.radius) / 2.0;
+    let mut shared = false;
     for a in 0..out.len() {
         let Features::VertexEdge { vertex: k, edge: e } = out[a].features else {
             continue;
@@ -320,6 +321,7 @@ fn share_close_corners(
             }
             .scaled(along_f.signum());
             let shares = Shares::of(x, y, zone);
+            shared = true;
             for (index, share, by_x, by_y) in [
                 (a, shares.first, shares.first_by_x, shares.first_by_y),
                 (b, shares.second, shares.second_by_x, shares.second_by_y),
@@ -331,7 +333,10 @@ fn share_close_corners(
             }
         }
     }
-    out.retain(|sc| sc.weight > 0.0);
+    // Only a shared weight can have fallen to zero.
+    if shared {
+        out.retain(|sc| sc.weight > 0.0);
+    }
 }
 
 /// The two weights of [`share_close_corners`] and their derivatives by the insets x and y.
