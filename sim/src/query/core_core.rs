@@ -143,38 +143,59 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
     mut verdict: impl FnMut(bool, usize, Verdict),
 ) {
     let cutoff = first.radius + second.radius;
+    // The sub-contacts are built inline (`#[inline(always)]` on the closures below): called
+    // from three places, the compiler left them out of line, a call and a copy of the touch
+    // for every sub-contact.
     let edges = among.edges_against(true, second.len());
     for k in among.members(true, first.len()) {
         let preferred = || entry(first, k, second, &previous);
-        let seen = vertex_against_core(first, k, second, edges, cutoff, true, preferred, |touch| {
-            let features = match touch.foot {
-                Foot::Edge(e) => Features::VertexEdge {
-                    vertex: k as u8,
-                    edge: e as u8,
-                },
-                Foot::Vertex(m) => Features::VertexVertex {
-                    first: k as u8,
-                    second: m as u8,
-                },
-            };
-            let p = first.vertices[k];
-            out.push(SubContact {
-                features,
-                normal: touch.normal,
-                overlap: cutoff - touch.distance,
-                point: (p + touch.closest) / 2.0
-                    + touch.normal * ((second.radius - first.radius) / 2.0),
-                weight: 1.0,
-                weight_gradient: WeightGradient::ZERO,
-            });
-        });
+        let seen = vertex_against_core(
+            first,
+            k,
+            second,
+            edges,
+            cutoff,
+            true,
+            preferred,
+            #[inline(always)]
+            |touch| {
+                let features = match touch.foot {
+                    Foot::Edge(e) => Features::VertexEdge {
+                        vertex: k as u8,
+                        edge: e as u8,
+                    },
+                    Foot::Vertex(m) => Features::VertexVertex {
+                        first: k as u8,
+                        second: m as u8,
+                    },
+                };
+                let p = first.vertices[k];
+                out.push(SubContact {
+                    features,
+                    normal: touch.normal,
+                    overlap: cutoff - touch.distance,
+                    point: (p + touch.closest) / 2.0
+                        + touch.normal * ((second.radius - first.radius) / 2.0),
+                    weight: 1.0,
+                    weight_gradient: WeightGradient::ZERO,
+                });
+            },
+        );
         verdict(true, k, seen);
     }
     let edges = among.edges_against(false, first.len());
     for m in among.members(false, second.len()) {
         let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
-        let seen =
-            vertex_against_core(second, m, first, edges, cutoff, false, preferred, |touch| {
+        let seen = vertex_against_core(
+            second,
+            m,
+            first,
+            edges,
+            cutoff,
+            false,
+            preferred,
+            #[inline(always)]
+            |touch| {
                 let Foot::Edge(e) = touch.foot else { return };
                 let p = second.vertices[m];
                 out.push(SubContact {
@@ -189,7 +210,8 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
                     weight: 1.0,
                     weight_gradient: WeightGradient::ZERO,
                 });
-            });
+            },
+        );
         verdict(false, m, seen);
     }
     share_close_corners(first, second, out);
