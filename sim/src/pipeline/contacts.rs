@@ -121,26 +121,44 @@ impl PairContact {
         dt: f64,
         would_be_overlap: impl Fn(Features) -> f64,
     ) {
-        for old in &self.subs {
-            if !found.iter().any(|f| f.features == old.features) {
+        // A pair's sub-contacts are usually those of a step ago, in the same order: each is
+        // looked for at its own place first.
+        for (n, old) in self.subs.iter().enumerate() {
+            let kept = found.get(n).is_some_and(|f| f.features == old.features)
+                || found.iter().any(|f| f.features == old.features);
+            if !kept {
                 self.switched -= f64::from(old.weight)
                     * law.elastic_energy(would_be_overlap(old.features), old.displacement);
             }
         }
         let reduced_mass = 1.0 / (first.inverse_mass + second.inverse_mass);
-        // The histories, read aside so the new states are written in place: moving a whole
-        // SmallVec in per pair and step costs more than this copy of a few (key, value).
+        // The new states are written in place over the old ones while the features match
+        // place by place (a sub-contact's features are unique within its pair, so an old
+        // state matched at its own place is the one a search would find, and no later one
+        // needs it). From the first mismatch on, the remaining histories are read aside.
         let mut histories: SmallVec<[(Features, f64); 4]> = SmallVec::new();
-        for s in &self.subs {
-            histories.push((s.features, s.displacement));
-        }
-        self.subs.clear();
+        let mut in_place = true;
         let (mut force, mut torque_first, mut torque_second) = (Vec2::zeros(), 0.0, 0.0);
-        for sc in found {
-            let history = histories
-                .iter()
-                .find(|(features, _)| *features == sc.features)
-                .map(|(_, displacement)| *displacement);
+        for (n, sc) in found.iter().enumerate() {
+            debug_assert!(found[..n].iter().all(|f| f.features != sc.features));
+            let history = match self.subs.get(n) {
+                Some(old) if in_place && old.features == sc.features => Some(old.displacement),
+                _ => {
+                    if in_place {
+                        in_place = false;
+                        histories.extend(
+                            self.subs[n.min(self.subs.len())..]
+                                .iter()
+                                .map(|s| (s.features, s.displacement)),
+                        );
+                        self.subs.truncate(n);
+                    }
+                    histories
+                        .iter()
+                        .find(|(features, _)| *features == sc.features)
+                        .map(|(_, displacement)| *displacement)
+                }
+            };
             let arm_first = sc.point - first.position;
             let arm_second = sc.point - second.position;
             let relative = first.velocity + cross_scalar(first.angular_velocity, arm_first)
@@ -174,15 +192,22 @@ impl PairContact {
                 torque_first -= g.angle_first * energy;
                 torque_second -= g.angle_second * energy;
             }
-            self.subs.push(SubContactState {
+            let state = SubContactState {
                 features: sc.features,
                 weight: sc.weight as f32,
                 displacement: f.displacement,
                 overlap: sc.overlap,
                 normal_force,
                 tangential_force,
-            });
+            };
+            if in_place {
+                self.subs[n] = state;
+            } else {
+                self.subs.push(state);
+            }
         }
+        // Old sub-contacts past the last one found (matched in place up to there).
+        self.subs.truncate(found.len());
         self.force = force;
         self.torque_first = torque_first;
         self.torque_second = torque_second;

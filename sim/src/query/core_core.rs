@@ -1,6 +1,8 @@
 use smallvec::SmallVec;
 
-use super::near_vertices::{NEAR_WITHIN, NearVertices, RECHECK_AFTER, Verdict};
+use super::near_vertices::{
+    Members, NEAR_WITHIN, NearVertices, RECHECK_AFTER, Verdict, edge_clearance,
+};
 use super::{Features, PlacedCore, SubContact, WeightGradient};
 use crate::math::{Vec2, cross, perp};
 
@@ -94,6 +96,25 @@ pub fn core_core_sub_contacts_and_near<I: Iterator<Item = Features>>(
             }
         },
     );
+    // The edges the near vertices may touch: the others are certified out of their reach
+    // like the vertices far from the other core.
+    for (of_first, owner, core) in [(true, first, second), (false, second, first)] {
+        for e in 0..core.len() {
+            let a = core.vertices[e];
+            let margin = near
+                .members(of_first, owner.len())
+                .map(|k| {
+                    let rel = owner.vertices[k] - a;
+                    edge_clearance(core, cutoff, rel.dot(&core.normal(e)), rel.norm())
+                })
+                .fold(f64::INFINITY, f64::min);
+            if margin < NEAR_WITHIN * cutoff {
+                near.insert_edge(of_first, e);
+            } else {
+                clearance = clearance.min(margin);
+            }
+        }
+    }
     (near, clearance)
 }
 
@@ -122,56 +143,75 @@ fn sub_contacts_of<I: Iterator<Item = Features>>(
     mut verdict: impl FnMut(bool, usize, Verdict),
 ) {
     let cutoff = first.radius + second.radius;
-    for k in 0..first.len() {
-        if !among.contains(true, k) {
-            continue;
-        }
+    // The sub-contacts are built inline (`#[inline(always)]` on the closures below): called
+    // from three places, the compiler left them out of line, a call and a copy of the touch
+    // for every sub-contact.
+    let edges = among.edges_against(true, second.len());
+    for k in among.members(true, first.len()) {
         let preferred = || entry(first, k, second, &previous);
-        let seen = vertex_against_core(first, k, second, cutoff, true, preferred, |touch| {
-            let features = match touch.foot {
-                Foot::Edge(e) => Features::VertexEdge {
-                    vertex: k as u8,
-                    edge: e as u8,
-                },
-                Foot::Vertex(m) => Features::VertexVertex {
-                    first: k as u8,
-                    second: m as u8,
-                },
-            };
-            let p = first.vertices[k];
-            out.push(SubContact {
-                features,
-                normal: touch.normal,
-                overlap: cutoff - touch.distance,
-                point: (p + touch.closest) / 2.0
-                    + touch.normal * ((second.radius - first.radius) / 2.0),
-                weight: 1.0,
-                weight_gradient: WeightGradient::ZERO,
-            });
-        });
+        let seen = vertex_against_core(
+            first,
+            k,
+            second,
+            edges,
+            cutoff,
+            true,
+            preferred,
+            #[inline(always)]
+            |touch| {
+                let features = match touch.foot {
+                    Foot::Edge(e) => Features::VertexEdge {
+                        vertex: k as u8,
+                        edge: e as u8,
+                    },
+                    Foot::Vertex(m) => Features::VertexVertex {
+                        first: k as u8,
+                        second: m as u8,
+                    },
+                };
+                let p = first.vertices[k];
+                out.push(SubContact {
+                    features,
+                    normal: touch.normal,
+                    overlap: cutoff - touch.distance,
+                    point: (p + touch.closest) / 2.0
+                        + touch.normal * ((second.radius - first.radius) / 2.0),
+                    weight: 1.0,
+                    weight_gradient: WeightGradient::ZERO,
+                });
+            },
+        );
         verdict(true, k, seen);
     }
-    for m in 0..second.len() {
-        if !among.contains(false, m) {
-            continue;
-        }
+    let edges = among.edges_against(false, first.len());
+    for m in among.members(false, second.len()) {
         let preferred = || entry(second, m, first, || previous().map(Features::mirrored));
-        let seen = vertex_against_core(second, m, first, cutoff, false, preferred, |touch| {
-            let Foot::Edge(e) = touch.foot else { return };
-            let p = second.vertices[m];
-            out.push(SubContact {
-                features: Features::EdgeVertex {
-                    edge: e as u8,
-                    vertex: m as u8,
-                },
-                normal: -touch.normal,
-                overlap: cutoff - touch.distance,
-                point: (p + touch.closest) / 2.0
-                    + touch.normal * ((first.radius - second.radius) / 2.0),
-                weight: 1.0,
-                weight_gradient: WeightGradient::ZERO,
-            });
-        });
+        let seen = vertex_against_core(
+            second,
+            m,
+            first,
+            edges,
+            cutoff,
+            false,
+            preferred,
+            #[inline(always)]
+            |touch| {
+                let Foot::Edge(e) = touch.foot else { return };
+                let p = second.vertices[m];
+                out.push(SubContact {
+                    features: Features::EdgeVertex {
+                        edge: e as u8,
+                        vertex: m as u8,
+                    },
+                    normal: -touch.normal,
+                    overlap: cutoff - touch.distance,
+                    point: (p + touch.closest) / 2.0
+                        + touch.normal * ((first.radius - second.radius) / 2.0),
+                    weight: 1.0,
+                    weight_gradient: WeightGradient::ZERO,
+                });
+            },
+        );
         verdict(false, m, seen);
     }
     share_close_corners(first, second, out);
@@ -264,6 +304,7 @@ fn share_close_corners(
         return;
     }
     let zone = (first.radius + second.radius) / 2.0;
+    let mut shared = false;
     for a in 0..out.len() {
         let Features::VertexEdge { vertex: k, edge: e } = out[a].features else {
             continue;
@@ -302,6 +343,7 @@ fn share_close_corners(
             }
             .scaled(along_f.signum());
             let shares = Shares::of(x, y, zone);
+            shared = true;
             for (index, share, by_x, by_y) in [
                 (a, shares.first, shares.first_by_x, shares.first_by_y),
                 (b, shares.second, shares.second_by_x, shares.second_by_y),
@@ -313,7 +355,10 @@ fn share_close_corners(
             }
         }
     }
-    out.retain(|sc| sc.weight > 0.0);
+    // Only a shared weight can have fallen to zero.
+    if shared {
+        out.retain(|sc| sc.weight > 0.0);
+    }
 }
 
 /// The two weights of [`share_close_corners`] and their derivatives by the insets x and y.
@@ -391,12 +436,16 @@ pub fn feature_overlap(first: &PlacedCore, second: &PlacedCore, features: Featur
 }
 
 /// Vertex k of `owner` against `core`: calls `emit` for each touch within `cutoff`, and
-/// tells how it ended.
+/// tells how it ended. Only the core's `edges` are looked at, the others being certified to
+/// give nothing (see [`NearVertices`]), except for a vertex that may lie inside the core,
+/// whose nearest edge is looked for among all.
+#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn vertex_against_core(
     owner: &PlacedCore,
     k: usize,
     core: &PlacedCore,
+    edges: Members,
     cutoff: f64,
     vertex_vertex: bool,
     preferred_entry: impl FnOnce() -> Option<Entry>,
@@ -409,39 +458,66 @@ fn vertex_against_core(
     if centre_squared >= reach * reach {
         return Verdict::Beyond { centre_squared };
     }
+    // The core's arrays cut to its length once: indexing them by an edge below then needs
+    // no bounds check.
     let n = core.len();
+    let (vertices, directions, lengths) =
+        (core.vertices, &core.directions[..n], &core.lengths[..n]);
+    let normal = |e: usize| {
+        let d = directions[e];
+        Vec2::new(d.y, -d.x)
+    };
+    let previous = |e: usize| if e == 0 { n - 1 } else { e - 1 };
 
     // Signed distance from each edge line. The distance to a convex core is at least the
     // largest of them, so one beyond the cutoff rules the vertex out: most vertices of a pair
     // face away from the other grain and stop here after an edge or two.
     // Kept for the second loop (most cores have few vertices).
     let mut signed = [0.0f64; 8];
-    let mut nearest_edge = 0;
-    let mut nearest_distance = f64::NEG_INFINITY;
-    for e in 0..n {
-        let s = (p - core.vertices[e]).dot(&core.normal(e));
-        if s >= cutoff {
-            return Verdict::BehindEdge { signed: s };
+    // The nearest edge line (the largest signed distance), or the signed distance from the
+    // first line found beyond the cutoff.
+    let edge_lines = |edges: Members, signed: &mut [f64; 8]| {
+        let mut nearest_edge = 0;
+        let mut nearest_distance = f64::NEG_INFINITY;
+        for e in edges {
+            let s = (p - vertices[e]).dot(&normal(e));
+            if s >= cutoff {
+                return Err(s);
+            }
+            if e < signed.len() {
+                signed[e] = s;
+            }
+            if s > nearest_distance {
+                nearest_distance = s;
+                nearest_edge = e;
+            }
         }
-        if e < signed.len() {
-            signed[e] = s;
-        }
-        if s > nearest_distance {
-            nearest_distance = s;
-            nearest_edge = e;
-        }
+        Ok((nearest_edge, nearest_distance))
+    };
+    let (mut nearest_edge, mut nearest_distance) = match edge_lines(edges, &mut signed) {
+        Ok(nearest) => nearest,
+        Err(signed) => return Verdict::BehindEdge { signed },
+    };
+    // The edges left out have the vertex on the inner side of their lines: a vertex outside
+    // the core by the edges looked at is outside it, nearest one of them; one that may lie
+    // inside has its nearest edge looked for among all.
+    if nearest_distance <= INSIDE * cutoff && !edges.is_all() {
+        (nearest_edge, nearest_distance) = match edge_lines(Members::of(u8::MAX, n), &mut signed) {
+            Ok(nearest) => nearest,
+            Err(signed) => return Verdict::BehindEdge { signed },
+        };
     }
     if nearest_distance <= INSIDE * cutoff {
         // Inside the core (every edge line has the vertex on its inner side), or on its
         // outline: a corner that came in past the end of a face of equal width (rods meeting
         // end-on) glides along the lines of the sides, and pushed out through a side it would
         // be squeezed from both and held there.
-        let distance_to = |e: usize| (p - core.vertices[e]).dot(&core.normal(e));
+        let distance_to = |e: usize| (p - vertices[e]).dot(&normal(e));
         let edge = match preferred_entry() {
             Some(Entry::Edge(e)) if e < n => e,
             // In from a corner: through whichever of its two edges it lies deeper behind.
             Some(Entry::Corner(m)) if m < n => {
-                let before = core.previous(m);
+                let before = previous(m);
                 if distance_to(before) < distance_to(m) {
                     before
                 } else {
@@ -450,7 +526,7 @@ fn vertex_against_core(
             }
             _ => nearest_edge,
         };
-        let normal = core.normal(edge);
+        let normal = normal(edge);
         let distance = distance_to(edge);
         emit(Touch {
             foot: Foot::Edge(edge),
@@ -462,27 +538,27 @@ fn vertex_against_core(
     }
 
     let (owner_in, owner_out) = (owner.directions[owner.previous(k)], owner.directions[k]);
-    for e in 0..n {
-        let a = core.vertices[e];
+    for e in edges {
+        let a = vertices[e];
         let rel = p - a;
-        let along = rel.dot(&core.directions[e]);
-        if along > 0.0 && along < core.lengths[e] {
+        let along = rel.dot(&directions[e]);
+        if along > 0.0 && along < lengths[e] {
             let s = if e < signed.len() {
                 signed[e]
             } else {
-                rel.dot(&core.normal(e))
+                rel.dot(&normal(e))
             };
             if s >= 0.0 {
                 emit(Touch {
                     foot: Foot::Edge(e),
-                    normal: core.normal(e),
+                    normal: normal(e),
                     distance: s,
-                    closest: a + core.directions[e] * along,
+                    closest: a + directions[e] * along,
                 });
             }
         } else if along <= 0.0 && vertex_vertex {
             // p lies in the vertex region of a, and a in the vertex region of p.
-            let core_in = core.directions[core.previous(e)];
+            let core_in = directions[previous(e)];
             let mutual = rel.dot(&core_in) >= 0.0
                 && (-rel).dot(&owner_out) <= 0.0
                 && (-rel).dot(&owner_in) >= 0.0;
@@ -492,7 +568,7 @@ fn vertex_against_core(
                 let normal = if distance > 1e-9 * cutoff {
                     rel / distance
                 } else {
-                    (core.normal(core.previous(e)) + core.normal(e)).normalize()
+                    (normal(previous(e)) + normal(e)).normalize()
                 };
                 emit(Touch {
                     foot: Foot::Vertex(e),
@@ -576,7 +652,7 @@ mod tests {
             seed ^= seed << 17;
             (seed >> 11) as f64 / (1u64 << 53) as f64
         };
-        let (mut checked, mut skipped, mut expired) = (0, 0, 0);
+        let (mut checked, mut skipped, mut skipped_edges, mut expired) = (0, 0, 0, 0);
         for trial in 0..2000 {
             let (a, b) = (&shapes[trial % 2], &shapes[(trial / 2) % 2]);
             let reach = a.bounding_radius() + b.bounding_radius();
@@ -641,10 +717,18 @@ mod tests {
                 assert_eq!(all, some, "trial {trial}, {near:?}, clearance {clearance}");
                 checked += 1;
                 skipped += 8 - (near.first.count_ones() + near.second.count_ones()) as usize;
+                skipped_edges +=
+                    8 - (near.first_edges.count_ones() + near.second_edges.count_ones()) as usize;
             }
         }
-        // The check saw many steps, vertices left out, and the clearance run out.
-        assert!(checked > 1000 && skipped > 4 * checked && expired == 2000);
+        // The check saw many steps, vertices and edges left out, and the clearance run out.
+        assert!(
+            checked > 1000
+                && skipped > 4 * checked
+                && skipped_edges > 2 * checked
+                && expired == 2000,
+            "{checked} steps, {skipped} vertices and {skipped_edges} edges left out"
+        );
     }
 
     fn square() -> Spheropolygon {

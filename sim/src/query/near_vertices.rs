@@ -15,27 +15,51 @@ pub const NEAR_WITHIN: f64 = 0.5;
 pub const RECHECK_AFTER: f64 = 1.0;
 
 /// The vertices of two cores that may touch the other core (bit k of `first`: vertex k of
-/// the first core). Vertices past the eighth always count as near.
+/// the first core), and the edges of the other core they may touch (bit e of
+/// `second_edges`: edge e of the second core, for the first's near vertices). Vertices and
+/// edges past the eighth always count as near.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct NearVertices {
     pub first: u8,
     pub second: u8,
+    pub second_edges: u8,
+    pub first_edges: u8,
 }
 
 impl NearVertices {
     pub const NONE: Self = Self {
         first: 0,
         second: 0,
+        second_edges: 0,
+        first_edges: 0,
     };
     pub const ALL: Self = Self {
         first: u8::MAX,
         second: u8::MAX,
+        second_edges: u8::MAX,
+        first_edges: u8::MAX,
     };
 
+    /// The near vertices of a core of `len` vertices (the first core's with `of_first`), in
+    /// increasing order: the narrow phase steps from one to the next without looking at the
+    /// others.
     #[inline(always)]
-    pub fn contains(self, of_first: bool, k: usize) -> bool {
-        let bits = if of_first { self.first } else { self.second };
-        k >= 8 || bits & (1 << k) != 0
+    pub fn members(self, of_first: bool, len: usize) -> Members {
+        Members::of(if of_first { self.first } else { self.second }, len)
+    }
+
+    /// The edges of the other core (of `len` edges) that the near vertices of the first core
+    /// (with `of_first`) or of the second may touch, in increasing order.
+    #[inline(always)]
+    pub fn edges_against(self, of_first: bool, len: usize) -> Members {
+        Members::of(
+            if of_first {
+                self.second_edges
+            } else {
+                self.first_edges
+            },
+            len,
+        )
     }
 
     pub fn insert(&mut self, of_first: bool, k: usize) {
@@ -46,6 +70,70 @@ impl NearVertices {
                 &mut self.second
             };
             *bits |= 1 << k;
+        }
+    }
+
+    /// Counts edge e of the other core as one the first core's near vertices (with
+    /// `of_first`) or the second's may touch.
+    pub fn insert_edge(&mut self, of_first: bool, e: usize) {
+        if e < 8 {
+            let bits = if of_first {
+                &mut self.second_edges
+            } else {
+                &mut self.first_edges
+            };
+            *bits |= 1 << e;
+        }
+    }
+}
+
+/// The vertices of [`NearVertices::members`]: the set bits, then every vertex past the
+/// eighth.
+#[derive(Clone, Copy, Debug)]
+pub struct Members {
+    bits: u8,
+    past_eighth: usize,
+    len: usize,
+}
+
+impl Members {
+    /// Bit k of `bits` for k below `len` and 8, then every index from 8 to `len`.
+    #[inline(always)]
+    pub fn of(bits: u8, len: usize) -> Self {
+        let within = if len >= 8 { u8::MAX } else { (1u8 << len) - 1 };
+        Self {
+            bits: bits & within,
+            past_eighth: 8,
+            len,
+        }
+    }
+
+    /// Whether every index below `len` is a member.
+    #[inline(always)]
+    pub fn is_all(&self) -> bool {
+        let within = if self.len >= 8 {
+            u8::MAX
+        } else {
+            (1u8 << self.len) - 1
+        };
+        self.bits == within
+    }
+}
+
+impl Iterator for Members {
+    type Item = usize;
+
+    #[inline(always)]
+    fn next(&mut self) -> Option<usize> {
+        if self.bits != 0 {
+            let k = self.bits.trailing_zeros() as usize;
+            self.bits &= self.bits - 1;
+            Some(k)
+        } else if self.past_eighth < self.len {
+            self.past_eighth += 1;
+            Some(self.past_eighth - 1)
+        } else {
+            None
         }
     }
 }
@@ -84,6 +172,26 @@ impl Verdict {
             Verdict::BehindEdge { signed } => (signed - cutoff) / (3.0 + cutoff / core.arm),
             Verdict::Near => return 0.0,
         };
-        (gap * (1.0 - 1e-9) - 1e-12).max(0.0)
+        with_rounding_margin(gap)
     }
+}
+
+/// How much further two grains may travel together before vertex p, looked at every step,
+/// can give a sub-contact against edge e of `core` (from vertex a with outward normal n),
+/// given its signed distance s = (p - a) . n from the edge line and its distance |p - a|
+/// from the edge's first vertex: the edge gives a vertex-edge sub-contact only with s >= 0,
+/// and a vertex-vertex one only with |p - a| < cutoff.
+///
+/// - s rises by at most (3 + cutoff / arm) times the travel (as in [`Verdict::clearance`],
+///   where p must be within reach of the core's centre to touch at all);
+/// - |p - a| falls by at most the travel.
+pub fn edge_clearance(core: &PlacedCore, cutoff: f64, signed: f64, distance: f64) -> f64 {
+    let behind = -signed / (3.0 + cutoff / core.arm);
+    with_rounding_margin(behind.min(distance - cutoff))
+}
+
+/// A hair less than `gap`, 0 when it is not positive (the narrow phase rounds at about
+/// 1e-17 m).
+fn with_rounding_margin(gap: f64) -> f64 {
+    (gap * (1.0 - 1e-9) - 1e-12).max(0.0)
 }
