@@ -20,9 +20,12 @@
 //!    at right angles to it (their remainder unexplained beside it) is refitted as those rods;
 //!    and a rod accepted with a low agreement is fitted afresh over every angle;
 //! 7. `settle`: every rod refined again against its neighbours where they ended up (a grain
-//!    accepted before its neighbours leaned into their darkness).
+//!    accepted before its neighbours leaned into their darkness);
+//! 8. `relax` (when [`DetectParams::relax`]): every pose relaxed jointly, image misfit plus
+//!    a cost for overlapping outlines, with the jumps that undo a grain turned or slipped in
+//!    place, and deaths and births of grains.
 //!
-//! Photographs above [`TILE_PIXELS`] go through steps 1-7 tile by tile, so memory stays
+//! Photographs above [`TILE_PIXELS`] go through steps 1-8 tile by tile, so memory stays
 //! bounded whatever their size.
 
 mod accept;
@@ -34,6 +37,7 @@ mod normalise;
 mod phases;
 mod plane;
 mod regions;
+mod relax;
 mod ridges;
 mod scale;
 mod seeds;
@@ -82,6 +86,10 @@ pub struct DetectParams {
     /// fitted outside the frame). Without them faster and less accurate (README, "Speed
     /// against accuracy").
     pub repairs: bool,
+    /// Relax every pose jointly after the acceptance (the `relax` stage): grains turned or
+    /// slipped into their neighbours are moved back, duplicates removed and grains missed
+    /// added, each only where the whole frame's misfit plus overlap falls.
+    pub relax: bool,
     /// Refuse a scale that disagrees with the sizes measured in the photograph.
     pub check_scale: bool,
     /// Largest photograph accepted, in pixels.
@@ -107,6 +115,7 @@ impl DetectParams {
             },
             finalists: fit::FINALISTS,
             repairs: true,
+            relax: true,
             check_scale: true,
             max_pixels: MAX_PIXELS,
             tile_pixels: TILE_PIXELS,
@@ -405,7 +414,17 @@ fn find(
         plausible(params, measured)?;
     }
     laps.lap("scale and holes");
-    let (found, free) = accept::find_grains(&dark.plane, &blobs, params, &mut laps);
+    let (mut found, mut free) = accept::find_grains(&dark.plane, &blobs, params, &mut laps);
+    if params.relax {
+        (found, free) = relax::relax(
+            &dark.plane,
+            found,
+            params.shape,
+            params.scale,
+            params.min_confidence,
+        );
+        laps.lap("relax");
+    }
     let dark_area = DarkArea::over(&dark.plane, &free, region);
     laps.lap("explained");
     Ok((found, dark_area))
