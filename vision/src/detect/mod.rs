@@ -422,6 +422,7 @@ fn find(
             params.shape,
             params.scale,
             params.min_confidence,
+            params.min_visible,
         );
         laps.lap("relax");
     }

@@ -6,6 +6,7 @@
 use std::f64::consts::FRAC_PI_2;
 
 use super::super::model::Pose;
+use super::super::plane::Bordered;
 use super::moves::Geometry;
 use super::objective::Canvas;
 
@@ -41,7 +42,8 @@ struct Patch {
     axis: f64,
 }
 
-/// The patches of dark area no outline covers, of at least `least` pixels.
+/// The patches of dark area no outline covers, of at least `least` pixels, the frame's edge
+/// not cutting them.
 fn patches(canvas: &Canvas, least: usize) -> Vec<Patch> {
     let (w, h) = (canvas.width(), canvas.height());
     let mut seen = vec![false; w * h];
@@ -54,8 +56,10 @@ fn patches(canvas: &Canvas, least: usize) -> Vec<Patch> {
         seen[start] = true;
         stack.push(start);
         let (mut n, mut sx, mut sy, mut sxx, mut syy, mut sxy) = (0usize, 0.0, 0.0, 0.0, 0.0, 0.0);
+        let mut on_edge = false;
         while let Some(i) = stack.pop() {
             let (c, r) = (i % w, i / w);
+            on_edge |= c == 0 || r == 0 || c + 1 == w || r + 1 == h;
             let (x, y) = (c as f64 + 0.5, r as f64 + 0.5);
             n += 1;
             sx += x;
@@ -82,7 +86,10 @@ fn patches(canvas: &Canvas, least: usize) -> Vec<Patch> {
                 visit(i + w);
             }
         }
-        if n < least {
+        // A patch the frame's edge cuts may as well be the field darkening toward the edge
+        // as a grain: the whole outline of neither is seen (a bare lab photograph's corner
+        // gave a nut there).
+        if n < least || on_edge {
             continue;
         }
         let k = n as f64;
@@ -99,12 +106,21 @@ fn patches(canvas: &Canvas, least: usize) -> Vec<Patch> {
 }
 
 /// Grains fitted into the patches of unexplained dark area, each added when it lowers the
-/// objective and agrees with the photograph by at least `min_confidence`; returns the poses
-/// added, with their agreement.
-pub fn births(canvas: &mut Canvas, geometry: &Geometry, min_confidence: f64) -> Vec<(Pose, f64)> {
+/// objective and passes the acceptance's test (`accepted`, on the darkness no other grain
+/// explains); returns the poses added, with their agreement.
+pub fn births(
+    canvas: &mut Canvas,
+    geometry: &Geometry,
+    accepted: impl Fn(Pose, &Bordered) -> Option<f64>,
+) -> Vec<(Pose, f64)> {
     let least = (LEAST_PATCH * geometry.length * geometry.width) as usize;
     let mut born = Vec::new();
-    for patch in patches(canvas, least.max(1)) {
+    let found = patches(canvas, least.max(1));
+    if found.is_empty() {
+        return born;
+    }
+    let mut free = Bordered::new(&canvas.free());
+    for patch in found {
         let (x, y) = patch.centre;
         let mut angles = vec![patch.axis, patch.axis + FRAC_PI_2];
         angles.extend(
@@ -121,12 +137,12 @@ pub fn births(canvas: &mut Canvas, geometry: &Geometry, min_confidence: f64) -> 
                 best = Some((q, raw + e));
             }
         }
-        if let Some((q, _)) = best {
-            let agreement = canvas.agreement(q);
-            if agreement >= min_confidence {
-                canvas.apply(&[], &[q]);
-                born.push((q, agreement));
-            }
+        if let Some((q, _)) = best
+            && let Some(agreement) = accepted(q, &free)
+        {
+            canvas.apply(&[], &[q]);
+            canvas.paint_free(q, &mut free);
+            born.push((q, agreement));
         }
     }
     born

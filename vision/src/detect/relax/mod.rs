@@ -20,7 +20,7 @@ mod overlap;
 
 use super::accept::Found;
 use super::model::{Model, Pose};
-use super::plane::Plane;
+use super::plane::{Bordered, Plane};
 use crate::GrainShape;
 
 use moves::Geometry;
@@ -33,15 +33,23 @@ const MOVED_PX: f64 = 0.5;
 pub const ROUNDS: usize = 3;
 
 /// The grains relaxed together on `dark` (full-resolution pixels), and the darkness they
-/// leave unexplained.
+/// leave unexplained; a grain is born only where it passes the acceptance's test
+/// (`min_confidence`, `min_visible`).
 pub fn relax(
     dark: &Plane,
     found: Vec<Found>,
     shape: GrainShape,
     scale: f64,
     min_confidence: f64,
+    min_visible: f64,
 ) -> (Vec<Found>, Plane) {
+    // Nothing accepted, nothing to relax: the darkness of a bare field, stretched by the
+    // normalisation, has dark patches a grain born there would lower the misfit on.
+    if found.is_empty() {
+        return (found, dark.clone());
+    }
     let model = Model::new(shape, scale);
+
     let geometry = Geometry {
         shape,
         length: shape.length() * scale,
@@ -51,6 +59,7 @@ pub fn relax(
     let mut confidence: Vec<f64> = found.iter().map(|f| f.confidence).collect();
     let mut alive = vec![true; poses.len()];
     let mut canvas = Canvas::new(dark, &model, poses.iter().copied());
+    let dark_bordered = Bordered::new(dark);
     let mut active: Vec<usize> = (0..poses.len()).collect();
     for round in 0..ROUNDS {
         let step = Geometry::sweep_step(round);
@@ -62,10 +71,15 @@ pub fn relax(
         // Every grain is nudged every round, its neighbours having moved; only those near a
         // change try their jumps again.
         for g in 0..poses.len() {
-            if !alive[g] {
+            // A grain centred outside the frame is not reported, and the frame shows too little
+            // of it to move it by: held, its rendering still counting (moved, one fitted over
+            // the edge of a bare photograph slid into its darkened corner).
+            let p = poses[g];
+            let inside =
+                (0.0..dark.width as f64).contains(&p.x) && (0.0..dark.height as f64).contains(&p.y);
+            if !alive[g] || !inside {
                 continue;
             }
-            let p = poses[g];
             let (mut q, e) = geometry.polish(&mut canvas, p, step);
             let mut far = e < 0.0 && (q.x - p.x).hypot(q.y - p.y) > MOVED_PX;
             if !is_active[g] {
@@ -92,7 +106,12 @@ pub fn relax(
         for g in birth_death::deaths(&mut canvas, &poses, &mut alive, &is_active) {
             changed.push(poses[g]);
         }
-        for (q, agreement) in birth_death::births(&mut canvas, &geometry, min_confidence) {
+        let accepted = |q: Pose, free: &Bordered| {
+            let s = model.score(q, &dark_bordered, free);
+            (f64::from(s.agreement) >= min_confidence && f64::from(s.visible) >= min_visible)
+                .then_some(f64::from(s.agreement))
+        };
+        for (q, agreement) in birth_death::births(&mut canvas, &geometry, accepted) {
             poses.push(q);
             confidence.push(agreement);
             alive.push(true);

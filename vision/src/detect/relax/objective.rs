@@ -8,7 +8,7 @@
 //! of a few poses is priced on the pixels it touches alone.
 
 use super::super::model::{Model, Pose};
-use super::super::plane::Plane;
+use super::super::plane::{Bordered, Plane};
 use super::overlap;
 
 /// Both sums of every grain's rendering over the frame, and the darkness they are judged on.
@@ -235,18 +235,19 @@ impl<'a> Canvas<'a> {
         self.dark.data[i] > 0.5 && self.covered.data[i] < 0.5
     }
 
-    /// How dark the photograph is where the pose renders dark, in [0, 1]: a grain's
-    /// confidence.
-    pub fn agreement(&self, pose: Pose) -> f64 {
+    /// Brings `free` (the darkness no outline covers, as [`Canvas::free`] gives it) up to date
+    /// over the pixels of a grain just put at `pose`.
+    pub fn paint_free(&self, pose: Pose, free: &mut Bordered) {
         let (w, h) = (self.dark.width, self.dark.height);
         let all = (0, isize::MAX, 0, isize::MAX);
-        let (mut dark, mut weight) = (0.0f64, 0.0f64);
-        self.model.each_covered(pose, w, h, all, |c, r, cov| {
-            let k = f64::from(cov * (1.0 - self.model.hole_at(pose, c, r)));
-            dark += k * f64::from(self.dark.data[r * w + c]);
-            weight += k;
+        self.model.each_covered(pose, w, h, all, |c, r, _| {
+            let i = r * w + c;
+            free.set(
+                c,
+                r,
+                self.dark.data[i] * (1.0 - self.covered.data[i].clamp(0.0, 1.0)),
+            );
         });
-        if weight > 0.0 { dark / weight } else { 0.0 }
     }
 
     pub fn width(&self) -> usize {
