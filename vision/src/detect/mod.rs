@@ -133,6 +133,8 @@ pub struct Shortcuts {
     pub settle_sweeps: Option<usize>,
     /// Leave out the rods' repairs but the rows'.
     pub no_repairs: bool,
+    /// Leave out the joint relaxation (`DetectParams::relax`).
+    pub no_relax: bool,
 }
 
 impl Shortcuts {
@@ -145,6 +147,7 @@ impl Shortcuts {
             params.settle_sweeps = n;
         }
         params.repairs &= !self.no_repairs;
+        params.relax &= !self.no_relax;
         params
     }
 }

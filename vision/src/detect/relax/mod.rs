@@ -5,13 +5,15 @@
 //! grain turned in place, or slipped across its neighbour's seam, pays for it.
 //!
 //! Rounds of, in order:
-//! 1. a sweep over the grains (all of them at first, then those near a change): nudges of
-//!    each along x, y and the angle, then its jumps (`moves`), and for rods the quarter turn
-//!    of a pair lying side by side;
-//! 2. deaths: grains whose removal lowers the objective (`birth_death`);
-//! 3. births: grains fitted into the patches of dark area no outline covers.
+//! 1. a sweep over the grains centred in the frame: nudges of each along x, y and the angle
+//!    (`moves`); for those near a change of the round before (all of them at first), its
+//!    jumps and, for rods, the quarter turn together with a neighbour;
+//! 2. deaths: of those near a change, grains whose removal lowers the objective
+//!    (`birth_death`);
+//! 3. births: grains fitted into the patches of dark area no outline covers;
 //!
-//! until a round changes nothing or [`ROUNDS`] are done.
+//! until a round changes nothing or [`ROUNDS`] are done. One thread, in a fixed order: the
+//! result does not depend on the thread count.
 
 mod birth_death;
 mod moves;
@@ -29,7 +31,9 @@ use objective::Canvas;
 /// A grain nudged farther than this (pixels) has its neighbours looked at again.
 const MOVED_PX: f64 = 0.5;
 
-/// Most rounds of sweep, deaths and births.
+/// Most rounds of sweep, deaths and births: a bound on the cost, each round nudging every
+/// grain; the step starts finer each round (`Geometry::sweep_step`), so later rounds settle
+/// the grains their neighbours' moves left off their best pose.
 pub const ROUNDS: usize = 3;
 
 /// The grains relaxed together on `dark` (full-resolution pixels), and the darkness they
@@ -49,7 +53,6 @@ pub fn relax(
         return (found, dark.clone());
     }
     let model = Model::new(shape, scale);
-
     let geometry = Geometry {
         shape,
         length: shape.length() * scale,
