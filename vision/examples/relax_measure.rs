@@ -1,8 +1,11 @@
 //! Measures the detector with and without the joint relaxation on rendered photographs with
 //! their truth tables (`facets render` writes PHOTO.truth.csv beside PHOTO.png):
 //! `cargo run --profile ci -p vision --example relax_measure -- SHAPE PX_PER_MM PHOTO.png...`
-//! with SHAPE square, rod53 or rod3. Prints, per photograph and setting, recall, precision,
-//! centre and orientation RMS, grains turned by more than 10 degrees and the time.
+//! with SHAPE square, rod53 or rod3. Prints, per photograph and setting (the old pipeline,
+//! with relax, and for rods relax without the repairs), recall, precision, centre and
+//! orientation RMS, grains turned by more than 10 degrees and the time. `RELAX_ONLY=relax`
+//! (or `old`, `relax, no repairs`) runs one setting, so that a process's CPU time is that
+//! setting's; `RELAX_LIST=1` also lists the grains turned and missed.
 
 use std::time::Instant;
 
