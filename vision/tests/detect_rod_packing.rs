@@ -99,6 +99,7 @@ fn the_shortcuts_still_find_the_rods() {
         finalists: Some(1),
         settle_sweeps: Some(0),
         no_repairs: true,
+        no_relax: false,
     };
     let params = shortcuts.apply(DetectParams::new(shape, frame.scale));
     let report = detect_report(&photo, &params).expect("detects");

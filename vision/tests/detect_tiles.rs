@@ -62,8 +62,9 @@ fn tiled_and_whole_detection_agree() {
 /// The report's steps are the pipeline's, in its order, and their times add up to the
 /// call's but for what no step holds (checking the parameters, the tiles' crops, turning the
 /// fits into detections): a whole photograph and one in tiles, rods (their repairs and
-/// settling) and nuts (neither). In tiles, the corner tile holds slivers of rods that measure
-/// 1.7 px/mm: the scale is the median of the tiles' measurements, and the photograph passes.
+/// settling) and nuts (neither), all relaxed. In tiles, the corner tile holds slivers of
+/// rods that measure 1.7 px/mm: the scale is the median of the tiles' measurements, and the
+/// photograph passes.
 #[test]
 fn the_report_times_each_step_of_the_pipeline() {
     let rods = rod_block(long_rod(), 0.35, 3, 6);
@@ -96,7 +97,7 @@ fn the_report_times_each_step_of_the_pipeline() {
             ]);
             expected.extend(["repair: unexplained", "repair: along edge"]);
         }
-        expected.extend(["settle", "explained"]);
+        expected.extend(["settle", "relax", "explained"]);
         assert_eq!(steps, expected, "tiles {tile_pixels:?}");
         let total = report.phases.total();
         assert!(total <= elapsed, "{total:?} > {elapsed:?}");

@@ -24,9 +24,12 @@
 //!    at right angles to it (their remainder unexplained beside it) is refitted as those rods;
 //!    and a rod accepted with a low agreement is fitted afresh over every angle;
 //! 7. `settle`: every rod refined again against its neighbours where they ended up (a grain
-//!    accepted before its neighbours leaned into their darkness).
+//!    accepted before its neighbours leaned into their darkness);
+//! 8. `relax` (when [`DetectParams::relax`]): every pose relaxed jointly, image misfit plus
+//!    a cost for overlapping outlines, with the jumps that undo a grain turned or slipped in
+//!    place, and deaths and births of grains.
 //!
-//! Photographs above [`TILE_PIXELS`] go through steps 1-7 tile by tile, so memory stays
+//! Photographs above [`TILE_PIXELS`] go through steps 1-8 tile by tile, so memory stays
 //! bounded whatever their size.
 
 mod accept;
@@ -39,6 +42,7 @@ mod normalise;
 mod phases;
 mod plane;
 mod regions;
+mod relax;
 mod ridges;
 mod scale;
 mod seeds;
@@ -88,6 +92,10 @@ pub struct DetectParams {
     /// fitted outside the frame). Without them faster and less accurate (README, "Speed
     /// against accuracy").
     pub repairs: bool,
+    /// Relax every pose jointly after the acceptance (the `relax` stage): grains turned or
+    /// slipped into their neighbours are moved back, duplicates removed and grains missed
+    /// added, each only where the whole frame's misfit plus overlap falls.
+    pub relax: bool,
     /// What to do with a scale that disagrees with the sizes measured in the photograph.
     pub scale_check: ScaleCheck,
     /// Largest photograph accepted, in pixels.
@@ -113,6 +121,10 @@ impl DetectParams {
             },
             finalists: fit::FINALISTS,
             repairs: true,
+            // Relaxation turns back the nuts fitted turned in gap-free lattices, which nothing
+            // else can; the rods' turned and slipped fits it leaves as the repairs left them,
+            // at several seconds a frame (docs/results/detector-bench.md, "Joint relaxation").
+            relax: matches!(shape, GrainShape::Square { .. }),
             scale_check: ScaleCheck::default(),
             max_pixels: MAX_PIXELS,
             tile_pixels: TILE_PIXELS,
@@ -130,6 +142,8 @@ pub struct Shortcuts {
     pub settle_sweeps: Option<usize>,
     /// Leave out the rods' repairs but the rows'.
     pub no_repairs: bool,
+    /// Leave out the joint relaxation (`DetectParams::relax`).
+    pub no_relax: bool,
 }
 
 impl Shortcuts {
@@ -142,6 +156,7 @@ impl Shortcuts {
             params.settle_sweeps = n;
         }
         params.repairs &= !self.no_repairs;
+        params.relax &= !self.no_relax;
         params
     }
 }
@@ -436,7 +451,18 @@ fn find(
         )?);
     }
     laps.lap("scale and holes");
-    let (found, free) = accept::find_grains(&dark.plane, &blobs, params, &mut laps);
+    let (mut found, mut free) = accept::find_grains(&dark.plane, &blobs, params, &mut laps);
+    if params.relax {
+        (found, free) = relax::relax(
+            &dark.plane,
+            found,
+            params.shape,
+            params.scale,
+            params.min_confidence,
+            params.min_visible,
+        );
+        laps.lap("relax");
+    }
     let dark_area = DarkArea::over(&dark.plane, &free, region);
     laps.lap("explained");
     Ok((found, dark_area))

@@ -700,6 +700,65 @@ impl Model {
         }
     }
 
+    /// Coverage in [0, 1] of the pixel (`col`, `row`) by the pose's hole (none for rods):
+    /// the part of the outline that is not dark.
+    pub fn hole_at(&self, pose: Pose, col: usize, row: usize) -> f32 {
+        let g = &self.geometry;
+        if g.hole_radius <= 0.0 {
+            return 0.0;
+        }
+        let (dx, dy) = (
+            col as f32 + 0.5 - pose.x as f32,
+            row as f32 + 0.5 - pose.y as f32,
+        );
+        let reach = g.hole_radius + g.soft;
+        if dx.abs() > reach || dy.abs() > reach {
+            return 0.0;
+        }
+        g.hole_coverage(dx, dy)
+    }
+
+    /// The coverage in [0, 1] of a pixel (`col`, `row`) by the pose's outline and by its
+    /// hole, the pose's rotation worked out once for every pixel asked.
+    pub fn coverage_of(&self, pose: Pose) -> impl Fn(usize, usize) -> (f32, f32) + '_ {
+        let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
+        let (px, py) = (pose.x as f32, pose.y as f32);
+        let g = &self.geometry;
+        let hole_reach = g.hole_radius + g.soft;
+        move |col, row| {
+            let dx = col as f32 + 0.5 - px;
+            let dy = row as f32 + 0.5 - py;
+            let (u, v) = (dx * cos - dy * sin, dx * sin + dy * cos);
+            let hole = if g.hole_radius > 0.0 && dx.abs() <= hole_reach && dy.abs() <= hole_reach {
+                g.hole_coverage(dx, dy)
+            } else {
+                0.0
+            };
+            (g.coverage(u, v), hole)
+        }
+    }
+
+    /// Whether a pixel (`col`, `row`) lies within `reach` pixels of the pose's outline or
+    /// its hole's edge: where moving the pose by less than `reach` less the anti-aliasing
+    /// ramp can change a coverage.
+    pub fn near_edge_of(&self, pose: Pose, reach: f32) -> impl Fn(usize, usize) -> bool + '_ {
+        let (sin, cos) = (pose.phi.sin() as f32, pose.phi.cos() as f32);
+        let (px, py) = (pose.x as f32, pose.y as f32);
+        let g = &self.geometry;
+        move |col, row| {
+            let dx = col as f32 + 0.5 - px;
+            let dy = row as f32 + 0.5 - py;
+            let (u, v) = (dx * cos - dy * sin, dx * sin + dy * cos);
+            g.signed_distance(u, v).abs() <= reach
+                || (g.hole_radius > 0.0 && (u.hypot(v) - g.hole_radius).abs() <= reach)
+        }
+    }
+
+    /// Width of the outline's anti-aliasing ramp (pixels).
+    pub fn softness(&self) -> f32 {
+        self.geometry.soft
+    }
+
     /// Corners of the outline (pixels), for the cut test and overlays.
     pub fn corners(&self, pose: Pose) -> [(f64, f64); 4] {
         let (s, c) = pose.phi.sin_cos();
