@@ -80,7 +80,10 @@ fn seeds_fix_the_photographs_and_the_splits_differ() {
         assert_ne!(x.look, z.look);
     }
     assert_eq!(without_seconds(&a.sources), without_seconds(&b.sources));
-    assert_ne!(without_seconds(&a.sources), without_seconds(&held_out.sources));
+    assert_ne!(
+        without_seconds(&a.sources),
+        without_seconds(&held_out.sources)
+    );
     for (x, y) in a.photos.iter().zip(&b.photos) {
         assert_eq!(x.tally, y.tally);
     }
@@ -91,7 +94,11 @@ fn seeds_fix_the_photographs_and_the_splits_differ() {
 fn without_seconds(table: &str) -> Vec<&str> {
     table
         .lines()
-        .map(|line| line.trim_end_matches('|').rsplit_once('|').map_or(line, |(row, _)| row))
+        .map(|line| {
+            line.trim_end_matches('|')
+                .rsplit_once('|')
+                .map_or(line, |(row, _)| row)
+        })
         .collect()
 }
 
