@@ -112,9 +112,9 @@ impl DetectParams {
             min_confidence: 0.5,
             min_visible: 0.25,
             max_rounds: 40,
-            // Nuts meet the accuracy targets without settling, and with it miss the time's:
-            // one sweep takes lab nuts at 10 px/mm from 0.34 to 0.20 degrees and from 0.018
-            // to 0.012 mm, and from 0.36-0.44 to 0.53 s a photograph (seeds 22-29).
+            // Nuts are refined against their neighbours where they ended up by the
+            // relaxation, which nudges every grain; settling them first would do it twice
+            // (docs/results/detector-bench.md).
             settle_sweeps: match shape {
                 GrainShape::Rod { .. } => settle::SWEEPS,
                 GrainShape::Square { .. } => 0,
