@@ -57,12 +57,7 @@ fn a_tiny_bench_photographs_every_source_and_pools_them() {
 
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bench.csv");
-    let rows: Vec<_> = report
-        .photos
-        .iter()
-        .chain(&report.by_source)
-        .chain(&report.by_shape)
-        .collect();
+    let rows = report.rows();
     write_results_csv(&out, &rows, config.split, "none").unwrap();
     let text = std::fs::read_to_string(&out).unwrap();
     assert_eq!(text.lines().count(), 1 + 5 + 5 + 1);

@@ -185,6 +185,18 @@ pub struct VisionReport {
     pub refusals: Vec<String>,
 }
 
+impl VisionReport {
+    /// Every row of the results table, in its order: the photographs, then the sources
+    /// pooled, then the shapes pooled.
+    pub fn rows(&self) -> Vec<&Row> {
+        self.photos
+            .iter()
+            .chain(&self.by_source)
+            .chain(&self.by_shape)
+            .collect()
+    }
+}
+
 /// What the bench reports as it goes.
 #[derive(Clone, Copy, Debug)]
 pub enum VisionEvent<'a> {

@@ -123,12 +123,7 @@ pub fn run(args: Args) -> anyhow::Result<()> {
     })?;
     bar.finish_and_clear();
     let shortcuts = args.shortcuts.describe();
-    let rows: Vec<_> = report
-        .photos
-        .iter()
-        .chain(&report.by_source)
-        .chain(&report.by_shape)
-        .collect();
+    let rows = report.rows();
     bench::write_results_csv(&args.out, &rows, config.split, &shortcuts)?;
     let looks_out = bench::looks_path(&args.out);
     bench::write_looks_csv(&looks_out, &report.looks)?;

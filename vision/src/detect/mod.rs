@@ -215,7 +215,7 @@ pub fn detect(image: &DynamicImage, params: &DetectParams) -> Result<Vec<Detecti
 }
 
 /// What [`detect_report`] found in one photograph.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Default)]
 pub struct Report {
     pub grains: Vec<Detection>,
     /// Fraction of the photograph's dark pixels that the outlines found explain (by at least

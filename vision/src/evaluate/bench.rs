@@ -112,15 +112,7 @@ pub fn run_photo(photo: &Photo) -> Result<Outcome, StoreError> {
     let peak_memory_bytes = memory::peak_bytes().filter(|_| measured);
     let (report, refused) = match detected {
         Ok(report) => (report, None),
-        Err(e) => (
-            Report {
-                grains: Vec::new(),
-                explained: None,
-                phases: Phases::default(),
-                warnings: Vec::new(),
-            },
-            Some(e.to_string()),
-        ),
+        Err(e) => (Report::default(), Some(e.to_string())),
     };
     let (tally, orientation_errors_deg) =
         score_with_errors(&truth_of(photo.grains, &photo.frame), &report.grains);
